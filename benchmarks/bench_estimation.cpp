@@ -1,0 +1,140 @@
+// benchmarks/bench_estimation.cpp — estimation and control: two-factor fusion
+// (alg:se3_data_fusion) with 1–10 iterations under each Jacobian policy, one full filter step
+// (alg:se3_bayes_filter: predict + correct, 5 fusion iterations), one controller step
+// (TactileServoController, PushingController) and the whole estimate-and-control cycle
+// (fromTangentGaussian + filter step + servo step), SE(3), float and double.
+#include <benchmark/benchmark.h>
+
+#include <lieservo/control.hpp>
+
+#include "bench_common.hpp"
+
+namespace {
+
+using lieservo_bench::FilterInputs;
+using lieservo_bench::kRing;
+
+// ---- fusion: argument = number of fixed iterations (tolerance 0: real-time mode) ------------
+template <class Policy, class G>
+void BM_fuse(benchmark::State& state) {
+  const auto& in = FilterInputs<G>::get();
+  lieservo::FusionOptions<typename G::Scalar> opt;
+  opt.max_iterations = static_cast<int>(state.range(0));
+  lieservo::FusionResult<G> r;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const auto s = lieservo::fuse<Policy>(in.obs[i], in.obs[(i + 1) & (kRing - 1)], opt, r);
+    benchmark::DoNotOptimize(s);
+    benchmark::DoNotOptimize(r);
+    i = (i + 1) & (kRing - 1);
+  }
+}
+
+#define LIESERVO_FUSE_BENCHMARKS(G)                                                        \
+  BENCHMARK_TEMPLATE(BM_fuse, lieservo::SeriesJacobian<1>, G)->DenseRange(1, 10);          \
+  BENCHMARK_TEMPLATE(BM_fuse, lieservo::SeriesJacobian<2>, G)->DenseRange(1, 10);          \
+  BENCHMARK_TEMPLATE(BM_fuse, lieservo::SeriesJacobian<3>, G)->DenseRange(1, 10);          \
+  BENCHMARK_TEMPLATE(BM_fuse, lieservo::SeriesJacobian<4>, G)->DenseRange(1, 10);          \
+  BENCHMARK_TEMPLATE(BM_fuse, lieservo::ClosedFormJacobian, G)->DenseRange(1, 10)
+
+LIESERVO_FUSE_BENCHMARKS(lieservo::SE3<double>);
+LIESERVO_FUSE_BENCHMARKS(lieservo::SE3<float>);
+
+// ---- one filter step: predict + correct (5 iterations, the paper's settings) ---------------
+template <class G, class Policy>
+void BM_FilterStep(benchmark::State& state) {
+  const auto& in = FilterInputs<G>::get();
+  lieservo::DiscriminativeBayesFilter<G, Policy> filter;
+  filter.reset(in.obs[0], in.sensor[0]);
+  std::size_t i = 1;
+  for (auto _ : state) {
+    const auto s = filter.step(in.sensor[i], in.obs[i]);
+    benchmark::DoNotOptimize(s);
+    i = (i + 1) & (kRing - 1);
+    if (i == 0) {  // keep the run stationary: restart the trajectory
+      state.PauseTiming();
+      filter.reset(in.obs[0], in.sensor[0]);
+      i = 1;
+      state.ResumeTiming();
+    }
+  }
+}
+BENCHMARK_TEMPLATE(BM_FilterStep, lieservo::SE3<double>, lieservo::PaperJacobian);
+BENCHMARK_TEMPLATE(BM_FilterStep, lieservo::SE3<double>, lieservo::ClosedFormJacobian);
+BENCHMARK_TEMPLATE(BM_FilterStep, lieservo::SE3<float>, lieservo::PaperJacobian);
+BENCHMARK_TEMPLATE(BM_FilterStep, lieservo::SE3<float>, lieservo::ClosedFormJacobian);
+
+// ---- one controller step ----------------------------------------------------------------------
+template <class Scalar>
+void BM_ServoStep(benchmark::State& state) {
+  using G = lieservo::SE3<Scalar>;
+  const auto& in = FilterInputs<G>::get();
+  lieservo::TactileServoController<G> servo(lieservo::objectTrackingPreset<Scalar>());
+  typename G::Tangent u;
+  const Scalar dt = Scalar(0.05);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const auto s = servo.step(in.obs[i].mean, dt, u);
+    benchmark::DoNotOptimize(s);
+    benchmark::DoNotOptimize(u);
+    i = (i + 1) & (kRing - 1);
+  }
+}
+BENCHMARK_TEMPLATE(BM_ServoStep, double);
+BENCHMARK_TEMPLATE(BM_ServoStep, float);
+
+template <class Scalar>
+void BM_PushingStep(benchmark::State& state) {
+  using G = lieservo::SE3<Scalar>;
+  const auto& in = FilterInputs<G>::get();
+  auto opt = lieservo::pushingPreset<Scalar>();
+  typename G::Vector3 target(Scalar(0), Scalar(0), Scalar(375));  // the paper's target: far away
+  opt.target = G(typename G::SO3Type(), target);
+  lieservo::PushingController<Scalar> push(opt);
+  typename G::Tangent u;
+  const Scalar dt = Scalar(0.05);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const auto s = push.step(in.obs[i].mean, in.sensor[i], dt, u);
+    benchmark::DoNotOptimize(s);
+    benchmark::DoNotOptimize(u);
+    i = (i + 1) & (kRing - 1);
+  }
+  if (push.terminated()) state.SkipWithError("pushing controller terminated: benchmark invalid");
+}
+BENCHMARK_TEMPLATE(BM_PushingStep, double);
+BENCHMARK_TEMPLATE(BM_PushingStep, float);
+
+// ---- the whole estimate-and-control cycle -------------------------------------------------------
+// GDN output (μ, σ) → fromTangentGaussian → filter step → servo step on the filtered pose.
+template <class Scalar, class Policy>
+void BM_Cycle(benchmark::State& state) {
+  using G = lieservo::SE3<Scalar>;
+  const auto& in = FilterInputs<G>::get();
+  lieservo::DiscriminativeBayesFilter<G, Policy> filter;
+  filter.reset(in.obs[0], in.sensor[0]);
+  lieservo::TactileServoController<G> servo(lieservo::objectTrackingPreset<Scalar>());
+  typename G::Tangent u;
+  const Scalar dt = Scalar(0.05);
+  std::size_t i = 1;
+  for (auto _ : state) {
+    lieservo::ConcentratedGaussian<G> obs;
+    auto s = lieservo::fromTangentGaussian(in.mu[i], in.sigma[i], obs);
+    if (s == lieservo::Status::ok) s = filter.step(in.sensor[i], obs);
+    if (s == lieservo::Status::ok) s = servo.step(filter.filtered().mean, dt, u);
+    benchmark::DoNotOptimize(s);
+    benchmark::DoNotOptimize(u);
+    i = (i + 1) & (kRing - 1);
+    if (i == 0) {
+      state.PauseTiming();
+      filter.reset(in.obs[0], in.sensor[0]);
+      i = 1;
+      state.ResumeTiming();
+    }
+  }
+}
+BENCHMARK_TEMPLATE(BM_Cycle, double, lieservo::PaperJacobian);
+BENCHMARK_TEMPLATE(BM_Cycle, double, lieservo::ClosedFormJacobian);
+BENCHMARK_TEMPLATE(BM_Cycle, float, lieservo::PaperJacobian);
+
+}  // namespace

@@ -1,0 +1,360 @@
+// benchmarks/speed_error_report.cpp — lieservo_speed_error_report: speed against error of the
+// two-factor fusion (alg:se3_data_fusion) on SE(3) for every configuration
+//     Jacobian policy ∈ {series N = 1..4, closed form} × iterations ∈ {1,2,3,5,10} × {float, double},
+// against a converged reference (closed-form Jacobian, iterated to a step of 1e-14, in long double).
+//
+//   lieservo_speed_error_report [--csv FILE] [--quick] [--reps R]
+//       writes one CSV row per configuration (see kHeader) to FILE (default: stdout);
+//       --quick: few inputs and repetitions (the CTest smoke run).
+//   lieservo_speed_error_report --dump FILE
+//       writes fusion and filter-step inputs/outputs (double) for benchmarks/numpy_baseline.py.
+//
+// Inputs (fixed seed): "realistic" — two factor means drawn independently from the data set's
+// pose range (translations uniform in ±5 mm per axis, rotations up to 25°), GDN-like σ
+// (0.1–1 mm, 0.5–2°); "hard" — means whose relative rotation is π − δ (δ ∈ [0.01, 0.1]),
+// σ log-uniform in [1e-6, 1e6] per component, and tiny rotations (1e-9 … 1e-5 rad).
+// Timing: median over repetitions of (wall time of one pass over the realistic set) / set size,
+// std::chrono::steady_clock. Errors: rotation |log(C_refᵀ C)| (rad), translation ‖r − r_ref‖
+// (mm), covariance ‖Σ − Σ_ref‖_F / ‖Σ_ref‖_F.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <lieservo/estimation.hpp>
+#include <lieservo/lieservo.hpp>
+
+namespace {
+
+using lieservo::ConcentratedGaussian;
+using lieservo::SE3;
+using lieservo::SO3;
+using lieservo::Status;
+using LD = long double;
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180.0;
+
+/// One fusion problem, stored in double (cast to each scalar type; the reference uses the
+/// same double values in long double).
+struct Case {
+  Eigen::Matrix<double, 6, 1> mu1, mu2, s1, s2;  // tangent means and σ (fromTangentGaussian)
+};
+struct Reference {
+  bool ok = false;
+  SE3<LD> mean;
+  Eigen::Matrix<LD, 6, 6> cov;
+};
+
+Eigen::Matrix<double, 6, 1> randomTangent(std::mt19937_64& rng, double t_max, double rot_lo, double rot_hi,
+                                          bool log_angle = false) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0), a(0.0, 1.0);
+  std::normal_distribution<double> n(0.0, 1.0);
+  Eigen::Matrix<double, 6, 1> xi;
+  for (int i = 0; i < 3; ++i) xi(i) = t_max * u(rng);
+  Eigen::Vector3d axis(n(rng), n(rng), n(rng));
+  axis.normalize();
+  const double ang = log_angle ? std::exp(std::log(rot_lo) + a(rng) * (std::log(rot_hi) - std::log(rot_lo)))
+                               : rot_lo + a(rng) * (rot_hi - rot_lo);
+  xi.tail<3>() = ang * axis;
+  return xi;
+}
+Eigen::Matrix<double, 6, 1> gdnSigma(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> st(0.1, 1.0), sr(0.5 * kDeg, 2.0 * kDeg);
+  Eigen::Matrix<double, 6, 1> s;
+  for (int i = 0; i < 6; ++i) s(i) = i < 3 ? st(rng) : sr(rng);
+  return s;
+}
+
+std::vector<Case> realisticCases(int n) {
+  std::mt19937_64 rng(12345);
+  std::vector<Case> v;
+  for (int i = 0; i < n; ++i)
+    v.push_back({randomTangent(rng, 5.0, 0, 25 * kDeg), randomTangent(rng, 5.0, 0, 25 * kDeg), gdnSigma(rng),
+                 gdnSigma(rng)});
+  return v;
+}
+
+std::vector<Case> hardCases(int n_each) {
+  std::mt19937_64 rng(987);
+  std::vector<Case> v;
+  std::uniform_real_distribution<double> a(0.0, 1.0);
+  for (int i = 0; i < n_each; ++i) {  // relative rotation π − δ: mu2's rotation = mu1's axis, angle + (π − δ)
+    Case c{randomTangent(rng, 5.0, 0, 10 * kDeg), {}, gdnSigma(rng), gdnSigma(rng)};
+    const SE3<double> X1 = SE3<double>::exp(c.mu1);
+    const Eigen::Matrix<double, 6, 1> d = randomTangent(rng, 5.0, kPi - 0.1, kPi - 0.01);
+    c.mu2 = (SE3<double>::exp(d) * X1).log();
+    v.push_back(c);
+  }
+  for (int i = 0; i < n_each; ++i) {  // σ spanning 1e-6 … 1e6
+    Case c{randomTangent(rng, 5.0, 0, 25 * kDeg), randomTangent(rng, 5.0, 0, 25 * kDeg), {}, {}};
+    for (int k = 0; k < 6; ++k) {
+      c.s1(k) = std::pow(10.0, -6.0 + 12.0 * a(rng));
+      c.s2(k) = std::pow(10.0, -6.0 + 12.0 * a(rng));
+    }
+    v.push_back(c);
+  }
+  for (int i = 0; i < n_each; ++i)  // tiny angles
+    v.push_back({randomTangent(rng, 5.0, 1e-9, 1e-5, true), randomTangent(rng, 5.0, 1e-9, 1e-5, true),
+                 gdnSigma(rng), gdnSigma(rng)});
+  return v;
+}
+
+template <class Scalar>
+bool makeFactors(const Case& c, ConcentratedGaussian<SE3<Scalar>> (&f)[2]) {
+  using T = Eigen::Matrix<Scalar, 6, 1>;
+  const T m1 = c.mu1.cast<Scalar>(), m2 = c.mu2.cast<Scalar>(), s1 = c.s1.cast<Scalar>(), s2 = c.s2.cast<Scalar>();
+  return lieservo::fromTangentGaussian(m1, s1, f[0]) == Status::ok &&
+         lieservo::fromTangentGaussian(m2, s2, f[1]) == Status::ok;
+}
+
+Reference reference(const Case& c) {
+  Reference r;
+  ConcentratedGaussian<SE3<LD>> f[2];
+  if (!makeFactors<LD>(c, f)) return r;
+  lieservo::FusionOptions<LD> opt;
+  opt.max_iterations = 200;
+  opt.tolerance = 1e-14L;
+  lieservo::FusionResult<SE3<LD>> res;
+  if (lieservo::fuse<lieservo::ClosedFormJacobian>(f[0], f[1], opt, res) != Status::ok) return r;
+  r.ok = true;
+  r.mean = res.fused.mean;
+  r.cov = res.fused.covariance;
+  return r;
+}
+
+struct Errors {
+  double rot = 0, trans = 0, cov = 0;
+};
+template <class Scalar>
+Errors errorsOf(const lieservo::FusionResult<SE3<Scalar>>& res, const Reference& ref) {
+  const SE3<LD> X = res.fused.mean.template cast<LD>();
+  Errors e;
+  e.rot = double((ref.mean.so3().inverse() * X.so3()).log().norm());
+  e.trans = double((X.translation() - ref.mean.translation()).norm());
+  e.cov = double((res.fused.covariance.template cast<LD>() - ref.cov).norm() / ref.cov.norm());
+  return e;
+}
+
+struct Row {
+  std::string scalar, policy;
+  int order = 0, iterations = 0;
+  double ns = 0;
+  Errors real_mean, real_max, hard_max;
+  int real_fail = 0, hard_fail = 0, hard_n = 0;
+};
+
+template <class Policy, class Scalar>
+Row evaluate(const char* scalar_name, const char* policy_name, int iterations, const std::vector<Case>& real,
+             const std::vector<Reference>& real_ref, const std::vector<Case>& hard,
+             const std::vector<Reference>& hard_ref, int reps) {
+  using G = SE3<Scalar>;
+  Row row;
+  row.scalar = scalar_name;
+  row.policy = policy_name;
+  row.order = Policy::order;
+  row.iterations = iterations;
+  lieservo::FusionOptions<Scalar> opt;
+  opt.max_iterations = iterations;
+  // Factors prepared once (the timing covers fuse() only).
+  std::vector<ConcentratedGaussian<G>> f1(real.size()), f2(real.size());
+  std::vector<char> good(real.size());
+  for (std::size_t i = 0; i < real.size(); ++i) {
+    ConcentratedGaussian<G> f[2];
+    good[i] = makeFactors<Scalar>(real[i], f);
+    f1[i] = f[0];
+    f2[i] = f[1];
+  }
+  lieservo::FusionResult<G> res;
+  int n_ok = 0;
+  for (std::size_t i = 0; i < real.size(); ++i) {
+    if (!good[i] || !real_ref[i].ok || lieservo::fuse<Policy>(f1[i], f2[i], opt, res) != Status::ok) {
+      ++row.real_fail;
+      continue;
+    }
+    const Errors e = errorsOf(res, real_ref[i]);
+    row.real_mean.rot += e.rot;
+    row.real_mean.trans += e.trans;
+    row.real_mean.cov += e.cov;
+    row.real_max.rot = std::max(row.real_max.rot, e.rot);
+    row.real_max.trans = std::max(row.real_max.trans, e.trans);
+    row.real_max.cov = std::max(row.real_max.cov, e.cov);
+    ++n_ok;
+  }
+  if (n_ok > 0) {
+    row.real_mean.rot /= n_ok;
+    row.real_mean.trans /= n_ok;
+    row.real_mean.cov /= n_ok;
+  }
+  for (std::size_t i = 0; i < hard.size(); ++i) {
+    ConcentratedGaussian<G> f[2];
+    if (!hard_ref[i].ok) continue;  // no reference: not counted
+    ++row.hard_n;
+    if (!makeFactors<Scalar>(hard[i], f) || lieservo::fuse<Policy>(f[0], f[1], opt, res) != Status::ok) {
+      ++row.hard_fail;
+      continue;
+    }
+    const Errors e = errorsOf(res, hard_ref[i]);
+    row.hard_max.rot = std::max(row.hard_max.rot, e.rot);
+    row.hard_max.trans = std::max(row.hard_max.trans, e.trans);
+    row.hard_max.cov = std::max(row.hard_max.cov, e.cov);
+  }
+  // Timing: median over repetitions of one pass over the realistic set.
+  std::vector<double> t;
+  volatile int sink = 0;
+  for (int r = 0; r <= reps; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (std::size_t i = 0; i < real.size(); ++i) sink = sink + int(lieservo::fuse<Policy>(f1[i], f2[i], opt, res));
+    const auto t1 = std::chrono::steady_clock::now();
+    if (r > 0) t.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count() / double(real.size()));
+  }
+  std::nth_element(t.begin(), t.begin() + t.size() / 2, t.end());
+  row.ns = t[t.size() / 2];
+  return row;
+}
+
+const char* kHeader =
+    "scalar,policy,order,iterations,ns_median,real_rot_mean_rad,real_trans_mean_mm,real_cov_mean_rel,"
+    "real_rot_max_rad,real_trans_max_mm,real_cov_max_rel,real_failures,hard_rot_max_rad,hard_trans_max_mm,"
+    "hard_cov_max_rel,hard_failures,hard_cases";
+
+void printRow(std::FILE* out, const Row& r) {
+  std::fprintf(out, "%s,%s,%d,%d,%.2f,%.3e,%.3e,%.3e,%.3e,%.3e,%.3e,%d,%.3e,%.3e,%.3e,%d,%d\n", r.scalar.c_str(),
+               r.policy.c_str(), r.order, r.iterations, r.ns, r.real_mean.rot, r.real_mean.trans, r.real_mean.cov,
+               r.real_max.rot, r.real_max.trans, r.real_max.cov, r.real_fail, r.hard_max.rot, r.hard_max.trans,
+               r.hard_max.cov, r.hard_fail, r.hard_n);
+}
+
+template <class Scalar>
+void allPolicies(std::vector<Row>& rows, const char* sname, const std::vector<Case>& real,
+                 const std::vector<Reference>& rr, const std::vector<Case>& hard, const std::vector<Reference>& hr,
+                 int reps) {
+  for (int it : {1, 2, 3, 5, 10}) {
+    rows.push_back(evaluate<lieservo::SeriesJacobian<1>, Scalar>(sname, "series", it, real, rr, hard, hr, reps));
+    rows.push_back(evaluate<lieservo::SeriesJacobian<2>, Scalar>(sname, "series", it, real, rr, hard, hr, reps));
+    rows.push_back(evaluate<lieservo::SeriesJacobian<3>, Scalar>(sname, "series", it, real, rr, hard, hr, reps));
+    rows.push_back(evaluate<lieservo::SeriesJacobian<4>, Scalar>(sname, "series", it, real, rr, hard, hr, reps));
+    rows.push_back(evaluate<lieservo::ClosedFormJacobian, Scalar>(sname, "closed", it, real, rr, hard, hr, reps));
+  }
+}
+
+// ---- --dump: inputs/outputs for the NumPy baseline -------------------------------------------
+template <class M>
+void putMatrix(std::FILE* f, const M& m) {
+  for (int i = 0; i < m.rows(); ++i)
+    for (int j = 0; j < m.cols(); ++j) std::fprintf(f, ",%.17g", double(m(i, j)));
+}
+
+template <class Policy>
+int dumpPolicy(std::FILE* f, const std::vector<Case>& cases) {
+  using G = SE3<double>;
+  for (int iters : {1, 5}) {
+    lieservo::FusionOptions<double> opt;
+    opt.max_iterations = iters;
+    for (const Case& c : cases) {  // fusion
+      ConcentratedGaussian<G> fac[2];
+      if (!makeFactors<double>(c, fac)) return 1;
+      lieservo::FusionResult<G> res;
+      if (lieservo::fuse<Policy>(fac[0], fac[1], opt, res) != Status::ok) return 1;
+      std::fprintf(f, "fuse,%d,%d", Policy::order, iters);
+      putMatrix(f, fac[0].mean.matrix());
+      putMatrix(f, fac[0].covariance);
+      putMatrix(f, fac[1].mean.matrix());
+      putMatrix(f, fac[1].covariance);
+      putMatrix(f, res.fused.mean.matrix());
+      putMatrix(f, res.fused.covariance);
+      std::fprintf(f, "\n");
+    }
+    // Filter steps: reset with obs 0 at sensor pose S0, then step(S1, obs1).
+    std::mt19937_64 rng(55);
+    typename lieservo::DiscriminativeBayesFilter<G, Policy>::Options fo;
+    fo.fusion = opt;
+    for (std::size_t k = 0; k + 1 < cases.size(); ++k) {
+      lieservo::DiscriminativeBayesFilter<G, Policy> filter(fo);
+      ConcentratedGaussian<G> a[2], b[2];
+      if (!makeFactors<double>(cases[k], a) || !makeFactors<double>(cases[k + 1], b)) return 1;
+      const G S0 = G::exp(randomTangent(rng, 5.0, 0, 10 * kDeg));
+      const G S1 = G::exp(randomTangent(rng, 0.5, 0, 1 * kDeg)) * S0;
+      if (filter.reset(a[0], S0) != Status::ok || filter.step(S1, b[1]) != Status::ok) return 1;
+      std::fprintf(f, "filter,%d,%d", Policy::order, iters);
+      putMatrix(f, S0.matrix());
+      putMatrix(f, a[0].mean.matrix());
+      putMatrix(f, a[0].covariance);
+      putMatrix(f, S1.matrix());
+      putMatrix(f, b[1].mean.matrix());
+      putMatrix(f, b[1].covariance);
+      putMatrix(f, fo.process_noise);
+      putMatrix(f, filter.filtered().mean.matrix());
+      putMatrix(f, filter.filtered().covariance);
+      std::fprintf(f, "\n");
+    }
+  }
+  return 0;
+}
+
+int dump(const char* path) {
+  std::FILE* f = std::fopen(path, "w");
+  if (!f) return 2;
+  const std::vector<Case> cases = realisticCases(8);
+  int rc = dumpPolicy<lieservo::SeriesJacobian<1>>(f, cases);
+  rc |= dumpPolicy<lieservo::SeriesJacobian<2>>(f, cases);
+  rc |= dumpPolicy<lieservo::SeriesJacobian<4>>(f, cases);
+  rc |= dumpPolicy<lieservo::ClosedFormJacobian>(f, cases);
+  std::fclose(f);
+  if (rc) std::fprintf(stderr, "dump: a fusion or filter step failed\n");
+  return rc;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const char* csv = nullptr;
+  bool quick = false;
+  int reps = 21;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--dump") && i + 1 < argc) return dump(argv[++i]);
+    if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) {
+      csv = argv[++i];
+    } else if (!std::strcmp(argv[i], "--quick")) {
+      quick = true;
+    } else if (!std::strcmp(argv[i], "--reps") && i + 1 < argc) {
+      reps = std::max(1, std::atoi(argv[++i]));
+    } else {
+      std::fprintf(stderr, "usage: %s [--csv FILE] [--quick] [--reps R] | --dump FILE\n", argv[0]);
+      return 2;
+    }
+  }
+  if (quick) reps = 1;
+  const std::vector<Case> real = realisticCases(quick ? 10 : 200);
+  const std::vector<Case> hard = hardCases(quick ? 2 : 20);
+  std::vector<Reference> rr, hr;
+  for (const Case& c : real) rr.push_back(reference(c));
+  for (const Case& c : hard) hr.push_back(reference(c));
+  int missing = 0;
+  for (const Reference& r : rr) missing += !r.ok;
+  if (missing) {
+    std::fprintf(stderr, "reference failed on %d realistic cases\n", missing);
+    return 1;
+  }
+  std::vector<Row> rows;
+  allPolicies<double>(rows, "double", real, rr, hard, hr, reps);
+  allPolicies<float>(rows, "float", real, rr, hard, hr, reps);
+  std::FILE* out = csv ? std::fopen(csv, "w") : stdout;
+  if (!out) return 2;
+  std::fprintf(out, "%s\n", kHeader);
+  for (const Row& r : rows) printRow(out, r);
+  if (csv) std::fclose(out);
+  // Sanity (also the smoke test's assertion): the converged closed-form double configuration
+  // matches the long-double reference on the realistic set.
+  for (const Row& r : rows)
+    if (r.scalar == "double" && r.order == -1 && r.iterations == 10 &&
+        (r.real_fail > 0 || r.real_max.rot > 1e-12 || r.real_max.cov > 1e-9)) {
+      std::fprintf(stderr, "closed form, 10 iterations, double does not match the reference\n");
+      return 1;
+    }
+  return 0;
+}

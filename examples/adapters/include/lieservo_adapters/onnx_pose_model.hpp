@@ -1,0 +1,79 @@
+// lieservo_adapters/onnx_pose_model.hpp — runs the trained pose-and-shear networks
+// (GDN, paper sec:gdn_model; CNN regression, sec:cnn_model) exported to ONNX, with
+// OpenCV's cv::dnn, and converts their outputs to library units.
+//
+// Network outputs are in the units recorded in the model card (this project's models:
+// mm and DEGREES; σ⁻¹ in 1/mm and 1/deg). Prediction::mu / sigma are converted to
+// library units: translation mm (unchanged), rotation RADIANS. The SE(3) observation
+// Gaussian (eq:se3_inverse_transform) is built in gdn_observation.hpp.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <opencv2/dnn.hpp>
+
+#include "lieservo_adapters/result.hpp"
+
+namespace lieservo::adapters {
+
+enum class ModelKind { gdn, cnn };
+
+/// What the adapter needs from a model card (models.<kind> entry of model_card.json).
+struct ModelCard {
+  ModelKind kind = ModelKind::gdn;
+  std::string onnx_file;  ///< absolute or relative to the card's directory ("" if not given)
+  int input_size = 128;   ///< input [N, 1, input_size, input_size]
+  int outputs = 12;       ///< 12 for a GDN (μ, σ⁻¹), 6 for a CNN
+  /// Per-component factor from network units to library units (mm -> 1, deg -> π/180, rad -> 1).
+  std::array<double, 6> to_library{1, 1, 1, 1, 1, 1};
+  std::array<std::string, 6> units{"mm", "mm", "mm", "deg", "deg", "deg"};
+
+  /// Reads model_card.json. Accepts the project's card (models.{gdn,cnn}.{file,input.shape,
+  /// output.shape,output.units}) and a flat card ({"kind", "input_size", "output_units": [6 strings]}).
+  /// Throws std::runtime_error naming the file and the missing/invalid field.
+  static ModelCard fromJsonFile(const std::string& path, ModelKind kind);
+};
+
+/// One network evaluation, in library units (mm, rad).
+struct Prediction {
+  Eigen::Matrix<double, 6, 1> mu = Eigen::Matrix<double, 6, 1>::Zero();        ///< ξ estimate [ρ; φ]
+  Eigen::Matrix<double, 6, 1> sigma = Eigen::Matrix<double, 6, 1>::Constant(-1);  ///< std dev; < 0 for a CNN
+  std::array<double, 12> raw{};  ///< the network's outputs as returned (network units)
+  bool has_uncertainty = false;
+  /// σ⁻¹ in library units (1/mm, 1/rad); only meaningful when has_uncertainty.
+  Eigen::Matrix<double, 6, 1> precisionSqrt() const { return sigma.cwiseInverse(); }
+};
+
+class OnnxPoseModel {
+ public:
+  /// Loads the ONNX file and checks it against the card (runs one dummy input to verify the
+  /// output shape). Throws std::runtime_error for a missing/malformed model or card.
+  OnnxPoseModel(const std::string& onnx_path, const ModelCard& card);
+  /// Loads the model named by the card's models.<kind>.file, relative to the card's directory.
+  static OnnxPoseModel fromCard(const std::string& card_path, ModelKind kind);
+
+  const ModelCard& card() const noexcept { return card_; }
+  bool hasUncertainty() const noexcept { return card_.outputs == 12; }
+
+  /// One pre-processed image: CV_32FC1 (or CV_8UC1, scaled by 1/255) input_size x input_size.
+  Result<Prediction> predict(const cv::Mat& image);
+  /// A batch (all the same size/type); one forward pass.
+  Result<std::vector<Prediction>> predictBatch(const std::vector<cv::Mat>& images);
+
+  /// Converts raw network outputs (card.outputs values, network units) to a Prediction
+  /// (library units). non_finite_output for NaN/inf or σ⁻¹ <= 0.
+  static Result<Prediction> fromRaw(const ModelCard& card, const double* raw);
+
+ private:
+  Result<cv::Mat> checkInput(const cv::Mat& image, std::size_t index) const;
+
+  ModelCard card_;
+  std::string path_;
+  cv::dnn::Net net_;
+};
+
+}  // namespace lieservo::adapters

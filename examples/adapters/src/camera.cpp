@@ -1,0 +1,79 @@
+#include "lieservo_adapters/camera.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace lieservo::adapters {
+
+TactileCamera::TactileCamera(int device, Preprocessor preprocessor, CameraOptions options)
+    : pre_(std::move(preprocessor)), opt_(options), source_("camera device " + std::to_string(device)), live_(true) {
+  if (opt_.input != FrameInput::raw) throw std::runtime_error(source_ + ": a live camera delivers raw frames");
+  bool opened = false;
+  try {
+    opened = cap_.open(device);
+  } catch (const cv::Exception& e) {
+    throw std::runtime_error(source_ + ": cannot open: " + e.what());
+  }
+  if (!opened || !cap_.isOpened()) throw std::runtime_error(source_ + ": cannot open (no such camera or busy)");
+  if (opt_.set_resolution) {
+    cap_.set(cv::CAP_PROP_FRAME_WIDTH, pre_.params().raw_size.width);
+    cap_.set(cv::CAP_PROP_FRAME_HEIGHT, pre_.params().raw_size.height);
+  }
+  if (opt_.exposure != 0.0) cap_.set(cv::CAP_PROP_EXPOSURE, opt_.exposure);
+}
+
+TactileCamera::TactileCamera(const std::string& path, Preprocessor preprocessor, CameraOptions options)
+    : pre_(std::move(preprocessor)),
+      opt_(options),
+      source_(path),
+      live_(options.force_live || path.rfind("/dev/video", 0) == 0 || path.find("://") != std::string::npos) {
+  if (path.empty()) throw std::runtime_error("TactileCamera: empty source path");
+  bool opened = false;
+  try {
+    // An image-sequence pattern goes to CAP_IMAGES; anything else to whichever backend takes it.
+    const bool pattern = path.find('%') != std::string::npos;
+    opened = pattern ? cap_.open(path, cv::CAP_IMAGES) : cap_.open(path);
+  } catch (const cv::Exception& e) {
+    throw std::runtime_error(path + ": cannot open video/image sequence: " + e.what());
+  }
+  if (!opened || !cap_.isOpened())
+    throw std::runtime_error(path + ": cannot open video/image sequence (missing file, or no frame matches the pattern)");
+}
+
+void TactileCamera::release() {
+  cap_.release();
+  lost_ = true;
+}
+
+Result<CameraFrame> TactileCamera::next() {
+  if (lost_ || !cap_.isOpened())
+    return makeError(live_ ? ErrorCode::camera_lost : ErrorCode::end_of_stream, source_ + ": not open");
+  CameraFrame f;
+  const int attempts = live_ ? std::max(1, opt_.max_consecutive_failures) : 1;
+  bool got = false;
+  for (int i = 0; i < attempts && !got; ++i) {
+    try {
+      got = cap_.read(f.raw) && !f.raw.empty();
+    } catch (const cv::Exception&) {
+      got = false;
+    }
+  }
+  f.stamp = std::chrono::steady_clock::now();
+  if (!got) {
+    lost_ = true;
+    if (live_)
+      return makeError(ErrorCode::camera_lost, source_ + ": camera lost: " + std::to_string(attempts) +
+                                                   " consecutive reads failed or returned an empty frame after " +
+                                                   std::to_string(delivered_) + " frames");
+    return makeError(ErrorCode::end_of_stream,
+                     source_ + ": end of stream after " + std::to_string(delivered_) + " frames");
+  }
+  auto img = opt_.input == FrameInput::raw ? pre_.processRaw(f.raw) : pre_.fromProcessed(f.raw);
+  if (!img) return makeError(img.error().code, source_ + " frame " + std::to_string(delivered_) + ": " +
+                                                   img.error().message);
+  f.image = std::move(img.value());
+  f.index = delivered_++;
+  return f;
+}
+
+}  // namespace lieservo::adapters

@@ -1,0 +1,223 @@
+#include "lieservo_adapters/onnx_pose_model.hpp"
+
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "lieservo_adapters/json.hpp"
+
+namespace lieservo::adapters {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+const char* kindName(ModelKind k) { return k == ModelKind::gdn ? "gdn" : "cnn"; }
+
+std::string trim(const std::string& s) {
+  std::size_t a = 0, b = s.size();
+  while (a < b && std::isspace(static_cast<unsigned char>(s[a])) != 0) ++a;
+  while (b > a && std::isspace(static_cast<unsigned char>(s[b - 1])) != 0) --b;
+  return s.substr(a, b - a);
+}
+
+/// "mm" -> 1, "deg"/"degrees" -> π/180, "rad"/"radians" -> 1.
+double unitFactor(const std::string& unit, const std::string& where) {
+  const std::string u = trim(unit);
+  if (u == "mm") return 1.0;
+  if (u == "deg" || u == "degree" || u == "degrees") return kPi / 180.0;
+  if (u == "rad" || u == "radian" || u == "radians") return 1.0;
+  throw std::runtime_error(where + ": unknown unit \"" + u + "\" (expected mm, deg or rad)");
+}
+
+/// Units of the six μ components from either an array of strings or the project's
+/// free-text form "mu: mm, mm, mm, deg, deg, deg; sigma_inv: ..." (or "mm, mm, ... deg").
+std::array<std::string, 6> parseUnits(const JsonValue& v, const std::string& where) {
+  std::vector<std::string> tokens;
+  if (v.isArray()) {
+    for (const auto& e : v.asArray(where)) tokens.push_back(trim(e.asString(where)));
+  } else {
+    std::string text = v.asString(where);
+    const auto mu = text.find("mu:");
+    if (mu != std::string::npos) text = text.substr(mu + 3);
+    const auto semi = text.find(';');
+    if (semi != std::string::npos) text = text.substr(0, semi);
+    std::stringstream ss(text);
+    std::string tok;
+    while (std::getline(ss, tok, ',')) tokens.push_back(trim(tok));
+  }
+  if (tokens.size() < 6) throw std::runtime_error(where + ": expected 6 component units, found " +
+                                                  std::to_string(tokens.size()));
+  std::array<std::string, 6> out;
+  for (int i = 0; i < 6; ++i) out[static_cast<std::size_t>(i)] = tokens[static_cast<std::size_t>(i)];
+  return out;
+}
+
+int lastNumber(const JsonValue& shape, const std::string& where) {
+  const auto& a = shape.asArray(where);
+  if (a.empty()) throw std::runtime_error(where + ": empty shape");
+  return a.back().asInt(where + " (last entry)");
+}
+
+std::string dirOf(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? std::string(".") : path.substr(0, slash);
+}
+
+bool fileExists(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  return static_cast<bool>(f);
+}
+
+}  // namespace
+
+ModelCard ModelCard::fromJsonFile(const std::string& path, ModelKind kind) {
+  const JsonValue doc = readJsonFile(path);
+  ModelCard c;
+  c.kind = kind;
+  const std::string k = kindName(kind);
+  try {
+    if (!doc.isObject()) throw std::runtime_error("top level should be an object");
+    if (const JsonValue* models = doc.find("models")) {
+      const JsonValue* e = models->find(k);
+      if (e == nullptr) throw std::runtime_error("no entry models." + k + " (model not exported yet?)");
+      if (const JsonValue* f = e->find("file")) c.onnx_file = f->asString("models." + k + ".file");
+      const JsonValue& in = e->at("input");
+      c.input_size = lastNumber(in.at("shape"), "models." + k + ".input.shape");
+      const JsonValue& out = e->at("output");
+      c.outputs = lastNumber(out.at("shape"), "models." + k + ".output.shape");
+      c.units = parseUnits(out.at("units"), "models." + k + ".output.units");
+    } else {
+      const std::string declared = doc.at("kind").asString("kind");
+      if (declared != k) throw std::runtime_error("card is for a \"" + declared + "\" model, not \"" + k + "\"");
+      if (const JsonValue* f = doc.find("file")) c.onnx_file = f->asString("file");
+      c.input_size = doc.at("input_size").asInt("input_size");
+      c.outputs = doc.at("outputs").asInt("outputs");
+      c.units = parseUnits(doc.at("output_units"), "output_units");
+    }
+    for (std::size_t i = 0; i < 6; ++i)
+      c.to_library[i] = unitFactor(c.units[i], "unit of component " + std::to_string(i + 1));
+    const int expected = kind == ModelKind::gdn ? 12 : 6;
+    if (c.outputs != expected)
+      throw std::runtime_error("a " + k + " model should have " + std::to_string(expected) + " outputs, card says " +
+                               std::to_string(c.outputs));
+    if (c.input_size <= 0) throw std::runtime_error("input size must be positive");
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
+  if (!c.onnx_file.empty() && c.onnx_file.front() != '/') c.onnx_file = dirOf(path) + "/" + c.onnx_file;
+  return c;
+}
+
+OnnxPoseModel::OnnxPoseModel(const std::string& onnx_path, const ModelCard& card) : card_(card), path_(onnx_path) {
+  if (!fileExists(onnx_path)) throw std::runtime_error(onnx_path + ": ONNX model file not found");
+  try {
+    net_ = cv::dnn::readNetFromONNX(onnx_path);
+  } catch (const cv::Exception& e) {
+    throw std::runtime_error(onnx_path + ": cannot load ONNX model: " + e.what());
+  }
+  if (net_.empty()) throw std::runtime_error(onnx_path + ": cannot load ONNX model (empty network)");
+  net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
+  net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
+  // Check the output shape against the card with one blank image.
+  const cv::Mat blank = cv::Mat::zeros(card_.input_size, card_.input_size, CV_32F);
+  auto r = predictBatch({blank});
+  if (!r) throw std::runtime_error(onnx_path + ": model does not match its card: " + r.error().message);
+}
+
+OnnxPoseModel OnnxPoseModel::fromCard(const std::string& card_path, ModelKind kind) {
+  ModelCard card = ModelCard::fromJsonFile(card_path, kind);
+  if (card.onnx_file.empty()) throw std::runtime_error(card_path + ": card names no model file");
+  const std::string file = card.onnx_file;
+  return OnnxPoseModel(file, card);
+}
+
+Result<cv::Mat> OnnxPoseModel::checkInput(const cv::Mat& image, std::size_t index) const {
+  const std::string what = "input image " + std::to_string(index);
+  if (image.empty()) return makeError(ErrorCode::empty_image, what + ": empty");
+  if (image.channels() != 1)
+    return makeError(ErrorCode::wrong_type, what + ": expected 1 channel, got " + std::to_string(image.channels()));
+  if (image.rows != card_.input_size || image.cols != card_.input_size) {
+    std::ostringstream os;
+    os << what << ": expected " << card_.input_size << "x" << card_.input_size << " but got " << image.cols << "x"
+       << image.rows << " (pre-process it first)";
+    return makeError(ErrorCode::wrong_size, os.str());
+  }
+  if (image.type() == CV_32FC1) return image;
+  if (image.type() == CV_8UC1) {
+    cv::Mat f;
+    image.convertTo(f, CV_32F, 1.0 / 255.0);
+    return f;
+  }
+  return makeError(ErrorCode::wrong_type, what + ": expected CV_32FC1 in [0,1] or CV_8UC1");
+}
+
+Result<std::vector<Prediction>> OnnxPoseModel::predictBatch(const std::vector<cv::Mat>& images) {
+  if (images.empty()) return makeError(ErrorCode::invalid_argument, "predictBatch: empty batch");
+  std::vector<cv::Mat> inputs;
+  inputs.reserve(images.size());
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    auto in = checkInput(images[i], i);
+    if (!in) return in.error();
+    inputs.push_back(*in);
+  }
+  cv::Mat out;
+  try {
+    const cv::Mat blob = cv::dnn::blobFromImages(inputs, 1.0, cv::Size(), cv::Scalar(), false, false, CV_32F);
+    net_.setInput(blob);
+    out = net_.forward().clone();
+  } catch (const cv::Exception& e) {
+    return makeError(ErrorCode::inference_failed, path_ + ": forward pass failed: " + e.what());
+  }
+  const int n = static_cast<int>(images.size());
+  if (out.type() != CV_32F || out.total() != static_cast<std::size_t>(n) * static_cast<std::size_t>(card_.outputs)) {
+    std::ostringstream os;
+    os << path_ << ": unexpected output: " << out.total() << " values of type " << out.type() << " for a batch of " << n
+       << " (expected " << card_.outputs << " per image, float32)";
+    return makeError(ErrorCode::inference_failed, os.str());
+  }
+  out = out.reshape(1, n);
+  std::vector<Prediction> preds;
+  preds.reserve(static_cast<std::size_t>(n));
+  std::array<double, 12> raw{};
+  for (int i = 0; i < n; ++i) {
+    const float* row = out.ptr<float>(i);
+    for (int j = 0; j < card_.outputs; ++j) raw[static_cast<std::size_t>(j)] = static_cast<double>(row[j]);
+    auto p = fromRaw(card_, raw.data());
+    if (!p) return makeError(p.error().code, "image " + std::to_string(i) + ": " + p.error().message);
+    preds.push_back(std::move(p.value()));
+  }
+  return preds;
+}
+
+Result<Prediction> OnnxPoseModel::fromRaw(const ModelCard& card, const double* raw) {
+  Prediction p;
+  p.has_uncertainty = card.outputs == 12;
+  for (int j = 0; j < card.outputs; ++j) {
+    p.raw[static_cast<std::size_t>(j)] = raw[j];
+    if (!std::isfinite(raw[j]))
+      return makeError(ErrorCode::non_finite_output, "output " + std::to_string(j) + " is not finite");
+  }
+  for (int j = 0; j < 6; ++j) {
+    const double f = card.to_library[static_cast<std::size_t>(j)];
+    p.mu(j) = raw[j] * f;
+    if (p.has_uncertainty) {
+      const double s_inv = raw[6 + j];
+      if (!(s_inv > 0.0))
+        return makeError(ErrorCode::non_finite_output,
+                         "sigma^-1 of component " + std::to_string(j + 1) + " is not positive");
+      p.sigma(j) = f / s_inv;  // σ = 1/σ⁻¹, in library units
+    }
+  }
+  return p;
+}
+
+Result<Prediction> OnnxPoseModel::predict(const cv::Mat& image) {
+  auto r = predictBatch({image});
+  if (!r) return r.error();
+  return std::move(r.value().front());
+}
+
+}  // namespace lieservo::adapters

@@ -1,0 +1,175 @@
+#include "lieservo_adapters/preprocessing.hpp"
+
+#include <sstream>
+#include <stdexcept>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "lieservo_adapters/json.hpp"
+
+namespace lieservo::adapters {
+
+const char* describe(ErrorCode code) noexcept {
+  switch (code) {
+    case ErrorCode::empty_image: return "empty image";
+    case ErrorCode::wrong_size: return "wrong image size";
+    case ErrorCode::wrong_type: return "unsupported image type";
+    case ErrorCode::io_error: return "I/O error";
+    case ErrorCode::camera_lost: return "camera lost";
+    case ErrorCode::end_of_stream: return "end of stream";
+    case ErrorCode::inference_failed: return "inference failed";
+    case ErrorCode::non_finite_output: return "non-finite network output";
+    case ErrorCode::invalid_argument: return "invalid argument";
+  }
+  return "unknown error";
+}
+
+namespace {
+std::string sizeStr(const cv::Size& s) {
+  std::ostringstream os;
+  os << s.width << "x" << s.height;
+  return os.str();
+}
+}  // namespace
+
+void PreprocessParams::validate() const {
+  auto bad = [](const std::string& m) { throw std::runtime_error("PreprocessParams: " + m); };
+  if (raw_size.width <= 0 || raw_size.height <= 0) bad("raw_size must be positive");
+  if (!gray) bad("gray must be true (the networks take one channel)");
+  if (bbox.width <= 0 || bbox.height <= 0) bad("bbox must have x1 > x0 and y1 > y0");
+  if (bbox.x < 0 || bbox.y < 0 || bbox.x + bbox.width > raw_size.width || bbox.y + bbox.height > raw_size.height)
+    bad("bbox [" + std::to_string(bbox.x) + "," + std::to_string(bbox.y) + "," + std::to_string(bbox.x + bbox.width) +
+        "," + std::to_string(bbox.y + bbox.height) + "] lies outside the " + sizeStr(raw_size) + " frame");
+  if (median_kernel != 0 && (median_kernel < 3 || median_kernel % 2 == 0)) bad("median_kernel must be 0 or odd >= 3");
+  if (threshold && (threshold_block < 3 || threshold_block % 2 == 0)) bad("threshold block must be odd >= 3");
+  if (circle_mask_radius < 0) bad("circle_mask_radius must be >= 0");
+  if (output_size <= 0) bad("output_size must be positive");
+}
+
+PreprocessParams PreprocessParams::fromJsonFile(const std::string& path) {
+  const JsonValue doc = readJsonFile(path);  // names file/line/column on malformed input
+  PreprocessParams p;
+  try {
+    if (!doc.isObject()) throw std::runtime_error("top level should be an object");
+    if (const JsonValue* v = doc.find("gray")) p.gray = v->asBool("gray");
+    if (const JsonValue* v = doc.find("bbox"); v != nullptr && !v->isNull()) {
+      const auto& a = v->asArray("bbox");
+      if (a.size() != 4) throw std::runtime_error("bbox should have 4 entries [x0, y0, x1, y1]");
+      const int x0 = a[0].asInt("bbox[0]"), y0 = a[1].asInt("bbox[1]");
+      const int x1 = a[2].asInt("bbox[2]"), y1 = a[3].asInt("bbox[3]");
+      p.bbox = cv::Rect(x0, y0, x1 - x0, y1 - y0);
+    }
+    if (const JsonValue* v = doc.find("thresh")) {
+      if (v->isNull() || (v->isBool() && !v->asBool())) {
+        p.threshold = false;
+      } else {
+        const auto& a = v->asArray("thresh");
+        if (a.size() != 2) throw std::runtime_error("thresh should be [block_size, C]");
+        p.threshold = true;
+        p.threshold_block = a[0].asInt("thresh[0]");
+        p.threshold_c = a[1].asNumber("thresh[1]");
+      }
+    }
+    if (const JsonValue* v = doc.find("circle_mask_radius")) {
+      p.circle_mask_radius = v->isNull() ? 0 : v->asInt("circle_mask_radius");
+    }
+    if (const JsonValue* v = doc.find("dims"); v != nullptr && !v->isNull()) {
+      const auto& a = v->asArray("dims");
+      if (a.size() != 2 || a[0].asInt("dims[0]") != a[1].asInt("dims[1]"))
+        throw std::runtime_error("dims should be a square [n, n]");
+      p.output_size = a[0].asInt("dims[0]");
+    }
+    p.validate();
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
+  return p;
+}
+
+Preprocessor::Preprocessor(PreprocessParams params) : p_(params) {
+  p_.validate();
+  if (p_.circle_mask_radius > 0) {
+    mask_ = cv::Mat::zeros(p_.bbox.size(), CV_8UC1);
+    // Centre (w/2, h/2) with integer division, filled disc of radius r: matches the data set.
+    cv::circle(mask_, cv::Point(p_.bbox.width / 2, p_.bbox.height / 2), p_.circle_mask_radius, cv::Scalar(255),
+               cv::FILLED, cv::LINE_8);
+  }
+}
+
+Result<cv::Mat> Preprocessor::toGray8(const cv::Mat& img, const cv::Size& expected, const char* what) const {
+  if (img.empty()) return makeError(ErrorCode::empty_image, std::string(what) + ": empty image");
+  if (img.size() != expected)
+    return makeError(ErrorCode::wrong_size,
+                     std::string(what) + ": expected " + sizeStr(expected) + " but got " + sizeStr(img.size()));
+  if (img.depth() != CV_8U)
+    return makeError(ErrorCode::wrong_type, std::string(what) + ": expected an 8-bit image, got depth " +
+                                                std::to_string(img.depth()));
+  cv::Mat g;
+  switch (img.channels()) {
+    case 1: g = img; break;
+    case 3: cv::cvtColor(img, g, cv::COLOR_BGR2GRAY); break;
+    case 4: cv::cvtColor(img, g, cv::COLOR_BGRA2GRAY); break;
+    default:
+      return makeError(ErrorCode::wrong_type,
+                       std::string(what) + ": expected 1, 3 or 4 channels, got " + std::to_string(img.channels()));
+  }
+  return g;
+}
+
+cv::Mat Preprocessor::resizeAndScale(const cv::Mat& gray8) const {
+  cv::Mat small, out;
+  cv::resize(gray8, small, cv::Size(p_.output_size, p_.output_size), 0, 0, cv::INTER_AREA);
+  small.convertTo(out, CV_32F, 1.0 / 255.0);
+  return out;
+}
+
+Result<cv::Mat> Preprocessor::binarise(const cv::Mat& raw) const {
+  auto g = toGray8(raw, p_.raw_size, "raw frame");
+  if (!g) return g.error();
+  cv::Mat img = (*g)(p_.bbox).clone();
+  if (p_.median_kernel > 0) {
+    cv::Mat blurred;
+    cv::medianBlur(img, blurred, p_.median_kernel);
+    img = blurred;
+  }
+  if (p_.threshold) {
+    cv::Mat binary;
+    cv::adaptiveThreshold(img, binary, 255, cv::ADAPTIVE_THRESH_GAUSSIAN_C, cv::THRESH_BINARY, p_.threshold_block,
+                          p_.threshold_c);
+    img = binary;
+  }
+  if (!mask_.empty()) {
+    cv::Mat masked = cv::Mat::zeros(img.size(), CV_8UC1);
+    img.copyTo(masked, mask_);
+    img = masked;
+  }
+  return img;
+}
+
+Result<cv::Mat> Preprocessor::processRaw(const cv::Mat& raw) const {
+  auto b = binarise(raw);
+  if (!b) return b.error();
+  return resizeAndScale(*b);
+}
+
+Result<cv::Mat> Preprocessor::fromProcessed(const cv::Mat& processed) const {
+  auto g = toGray8(processed, p_.processedSize(), "processed image");
+  if (!g) return g.error();
+  return resizeAndScale(*g);
+}
+
+Result<cv::Mat> Preprocessor::loadProcessed(const std::string& path) const {
+  cv::Mat img;
+  try {
+    img = cv::imread(path, cv::IMREAD_GRAYSCALE);
+  } catch (const cv::Exception& e) {
+    return makeError(ErrorCode::io_error, path + ": " + e.what());
+  }
+  if (img.empty()) return makeError(ErrorCode::io_error, path + ": cannot read image (missing or not an image)");
+  auto r = fromProcessed(img);
+  if (!r) return makeError(r.error().code, path + ": " + r.error().message);
+  return r;
+}
+
+}  // namespace lieservo::adapters

@@ -1,0 +1,364 @@
+// examples/franka/franka_servo_example.cpp — pose-and-shear tactile servoing on a real Franka
+// arm with a TacTip: surface following (paper sec:surface_follow_exp) or single-arm pushing
+// (sec:single_arm_object_pushing_exp). See docs/hardware.md before running it.
+//
+//   franka_servo_example --robot 172.16.0.2 --task follow --camera 0
+//       --model-card models/model_card.json --preprocess processed_image_params.json
+//       --mount 0,0,120,0,0,0 --start 450,0,150,180,0,0 --heading 90 --duration 30
+//   (one command line)
+//
+// Threads: this program's TACTILE thread runs at camera rate (capture → pre-processing →
+// GDN → SE(3) Bayes filter → controller → FrankaAdapter::commandVelocity); the adapter's
+// 1 kHz thread (libfranka) smooths and sends the commands. The main thread waits, prints
+// status once a second and handles Ctrl-C (ramped stop). The hardware emergency stop /
+// enabling device is the real safety layer; this program is not a safety system.
+//
+// The tactile front end sits behind one seam, `TactileFrontEnd`: replace
+// `OpenCvGdnFrontEnd` to use a different sensor or model.
+#include "franka_adapter.hpp"
+
+#include <lieservo/control/presets.hpp>
+#include <lieservo/control/pushing_controller.hpp>
+#include <lieservo/control/tactile_servo_controller.hpp>
+#include <lieservo/estimation/bayes_filter.hpp>
+#include <lieservo/units.hpp>
+
+#include <lieservo_adapters/camera.hpp>
+#include <lieservo_adapters/gdn_observation.hpp>
+#include <lieservo_adapters/onnx_pose_model.hpp>
+#include <lieservo_adapters/preprocessing.hpp>
+
+#include <opencv2/core.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace {
+
+using lieservo::ConcentratedGaussian;
+using lieservo::Status;
+using lieservo::franka_adapter::FrankaAdapter;
+using lieservo::franka_adapter::FrankaAdapterOptions;
+using SE3d = lieservo::SE3<double>;
+using Twist = SE3d::Tangent;
+
+std::atomic<bool> g_interrupted{false};
+extern "C" void onSignal(int) { g_interrupted.store(true); }
+
+// ---- Command line -------------------------------------------------------------------
+struct Args {
+  std::string robot_ip;
+  std::string task = "follow";  // follow | push
+  int camera = 0;
+  std::string model_card;
+  std::string preprocess;       // processed_image_params.json ("" = defaults)
+  std::vector<double> mount{0, 0, 0, 0, 0, 0};  // X_ES: x y z (mm), α β γ (deg, extrinsic xyz)
+  std::vector<double> start;                    // optional X_ws to move to first (mm, deg)
+  double heading_deg = 90;      // follow: feedforward direction in the reference xy-plane
+  double speed = 10;            // follow: feedforward speed (mm/s), paper 10
+  std::vector<double> target{0, 0, 375};  // push: target position in {w} (mm); paper (y, z) = (0, 375)
+  double approach_speed = 5;    // mm/s along the sensor z until contact
+  double approach_max_mm = 30;  // give up if no contact after this far
+  double contact_threshold = -1;  // mean |I − I_ref| of the processed image; < 0: 4× the no-contact noise
+  double duration = 60;         // s
+  double max_speed = 50;        // mm/s: translational velocity limit of the smoother
+};
+
+std::vector<double> parseList(const std::string& s, std::size_t n, const char* what) {
+  std::vector<double> v;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ',')) v.push_back(std::stod(item));
+  if (v.size() != n) throw std::runtime_error(std::string(what) + ": expected " + std::to_string(n) + " comma-separated numbers");
+  return v;
+}
+
+void usage() {
+  std::puts(
+      "franka_servo_example --robot IP --model-card PATH [--task follow|push] [--camera N]\n"
+      "  [--preprocess PARAMS.json] [--mount x,y,z,a,b,g] [--start x,y,z,a,b,g] [--heading DEG]\n"
+      "  [--speed MM_S] [--target x,y,z] [--approach-speed MM_S] [--approach-max MM]\n"
+      "  [--contact-threshold T] [--duration S] [--max-speed MM_S]\n"
+      "Poses: mm and degrees (extrinsic xyz). --mount is the sensor frame in libfranka's EE frame.");
+}
+
+Args parseArgs(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string k = argv[i];
+    auto val = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::runtime_error("missing value for " + k);
+      return argv[++i];
+    };
+    if (k == "--robot") a.robot_ip = val();
+    else if (k == "--task") a.task = val();
+    else if (k == "--camera") a.camera = std::stoi(val());
+    else if (k == "--model-card") a.model_card = val();
+    else if (k == "--preprocess") a.preprocess = val();
+    else if (k == "--mount") a.mount = parseList(val(), 6, "--mount");
+    else if (k == "--start") a.start = parseList(val(), 6, "--start");
+    else if (k == "--heading") a.heading_deg = std::stod(val());
+    else if (k == "--speed") a.speed = std::stod(val());
+    else if (k == "--target") a.target = parseList(val(), 3, "--target");
+    else if (k == "--approach-speed") a.approach_speed = std::stod(val());
+    else if (k == "--approach-max") a.approach_max_mm = std::stod(val());
+    else if (k == "--contact-threshold") a.contact_threshold = std::stod(val());
+    else if (k == "--duration") a.duration = std::stod(val());
+    else if (k == "--max-speed") a.max_speed = std::stod(val());
+    else if (k == "--help" || k == "-h") { usage(); std::exit(0); }
+    else throw std::runtime_error("unknown option " + k);
+  }
+  if (a.robot_ip.empty() || a.model_card.empty()) throw std::runtime_error("--robot and --model-card are required");
+  if (a.task != "follow" && a.task != "push") throw std::runtime_error("--task must be follow or push");
+  return a;
+}
+
+SE3d poseFromMmDeg(const std::vector<double>& v) {
+  Eigen::Matrix<double, 6, 1> x;
+  for (int i = 0; i < 6; ++i) x[i] = v[static_cast<std::size_t>(i)];
+  return SE3d::fromEulerXYZ6Degrees(x);
+}
+
+// ---- The tactile seam -----------------------------------------------------------------
+/// One tactile sample: the observation Gaussian of X_sf (feature in sensor), a contact
+/// decision and the capture time.
+struct TactileSample {
+  ConcentratedGaussian<SE3d> observation;
+  bool in_contact = false;
+  double contact_statistic = 0;
+  std::chrono::steady_clock::time_point stamp;
+};
+
+class TactileFrontEnd {
+ public:
+  virtual ~TactileFrontEnd() = default;
+  /// Blocks for the next frame. false: the sensor is gone (camera lost / model failure).
+  virtual bool next(TactileSample& out, std::string& error) = 0;
+};
+
+/// TacTip camera → pre-processing → ONNX GDN (examples/adapters) → SE(3) observation; contact
+/// by the mean absolute difference of the processed image from a no-contact reference frame
+/// (with hysteresis: on above T, off below T/2).
+class OpenCvGdnFrontEnd final : public TactileFrontEnd {
+ public:
+  OpenCvGdnFrontEnd(const Args& a)
+      : camera_(a.camera,
+                lieservo::adapters::Preprocessor(a.preprocess.empty()
+                                                     ? lieservo::adapters::PreprocessParams{}
+                                                     : lieservo::adapters::PreprocessParams::fromJsonFile(a.preprocess))),
+        model_(lieservo::adapters::OnnxPoseModel::fromCard(a.model_card, lieservo::adapters::ModelKind::gdn)) {
+    if (!model_.hasUncertainty()) throw std::runtime_error("the model card's GDN has no uncertainty outputs");
+    // Reference frame and noise level: the sensor must be OUT of contact now.
+    std::vector<cv::Mat> frames;
+    for (int i = 0; i < 30; ++i) {
+      auto f = camera_.next();
+      if (!f) throw std::runtime_error("camera: " + f.error().message);
+      frames.push_back(f->image.clone());
+    }
+    reference_ = cv::Mat::zeros(frames[0].size(), frames[0].type());
+    for (const auto& f : frames) reference_ += f / static_cast<double>(frames.size());
+    double noise = 0;
+    for (const auto& f : frames) noise = std::max(noise, statistic(f));
+    threshold_ = a.contact_threshold > 0 ? a.contact_threshold : std::max(4 * noise, 1e-3);
+    std::printf("tactile: no-contact noise %.5f, contact threshold %.5f\n", noise, threshold_);
+  }
+
+  bool next(TactileSample& out, std::string& error) override {
+    auto f = camera_.next();
+    if (!f) {
+      error = "camera: " + f.error().message;
+      return false;
+    }
+    auto p = model_.predict(f->image);
+    if (!p) {
+      error = "model: " + p.error().message;
+      return false;
+    }
+    const Status s = lieservo::adapters::toObservation(*p, out.observation);
+    if (s != Status::ok) {
+      error = std::string("observation: ") + lieservo::describe(s);
+      return false;
+    }
+    out.contact_statistic = statistic(f->image);
+    contact_ = contact_ ? out.contact_statistic > 0.5 * threshold_ : out.contact_statistic > threshold_;
+    out.in_contact = contact_;
+    out.stamp = f->stamp;
+    return true;
+  }
+
+ private:
+  double statistic(const cv::Mat& img) const {
+    return cv::norm(img, reference_, cv::NORM_L1) / static_cast<double>(img.total());
+  }
+
+  lieservo::adapters::TactileCamera camera_;
+  lieservo::adapters::OnnxPoseModel model_;
+  cv::Mat reference_;
+  double threshold_ = 0;
+  bool contact_ = false;
+};
+
+// ---- The tactile loop (its own thread) ---------------------------------------------------
+struct LoopResult {
+  std::string outcome = "running";
+};
+
+void tactileLoop(const Args& a, FrankaAdapter& robot, TactileFrontEnd& sensor, std::atomic<bool>& quit,
+                 LoopResult& result) {
+  using clock = std::chrono::steady_clock;
+  const bool push = a.task == "push";
+  lieservo::TactileServoController<SE3d> servo(lieservo::surfaceFollowingPreset<double>());
+  servo.setFeedforward(lieservo::surfaceFollowingFeedforward<double>(lieservo::deg2rad(a.heading_deg), a.speed));
+  auto push_options = lieservo::pushingPreset<double>(lieservo::PushingConfiguration::single_arm);
+  lieservo::PushingController<double> pusher(push_options);
+  lieservo::DiscriminativeBayesFilter<SE3d> filter;
+
+  SE3d X_ws;
+  if (robot.readPose(X_ws) != Status::ok) {
+    result.outcome = "cannot read the robot pose";
+    return;
+  }
+  if (push) {
+    // Target at the sensor's current height (work x), paper (y, z) = (0, 375) mm.
+    Eigen::Vector3d p(X_ws.translation().x(), a.target[1], a.target[2]);
+    if (a.target[0] != 0) p.x() = a.target[0];
+    pusher.setTarget(SE3d(lieservo::SO3<double>::identity(), p));
+  }
+
+  const Eigen::Vector3d approach_start = X_ws.translation();
+  bool touched = false;
+  clock::time_point last = clock::now();
+  const clock::time_point t_end = clock::now() + std::chrono::duration_cast<clock::duration>(
+                                                     std::chrono::duration<double>(a.duration));
+  TactileSample sample;
+  std::string error;
+  while (!quit.load()) {
+    if (!sensor.next(sample, error)) {  // no more commands: the adapter's watchdog stops the arm
+      result.outcome = "tactile front end failed: " + error;
+      return;
+    }
+    const double dt = std::max(1e-3, std::chrono::duration<double>(sample.stamp - last).count());
+    last = sample.stamp;
+    if (clock::now() > t_end) {
+      result.outcome = "duration reached";
+      return;
+    }
+    if (robot.readPose(X_ws) != Status::ok) continue;
+    const auto st = robot.stats();
+    if (st.faulted) {
+      result.outcome = "robot fault: " + robot.lastError();
+      return;
+    }
+    if (st.watchdog == lieservo::realtime::WatchdogState::tripped_contact_loss) {
+      result.outcome = "contact lost: stopped (watchdog)";
+      return;
+    }
+
+    Twist u = Twist::Zero();
+    if (!touched) {
+      // Approach along the sensor z (out of the tip, into the surface/object) until contact.
+      if (sample.in_contact) {
+        touched = true;
+        filter.reset(sample.observation, X_ws);
+        std::puts("contact: servoing");
+      } else {
+        if ((X_ws.translation() - approach_start).norm() > a.approach_max_mm) {
+          result.outcome = "no contact within the approach distance";
+          return;
+        }
+        u[2] = a.approach_speed;
+        robot.commandVelocity(u, dt, false);
+        continue;
+      }
+    } else if (filter.step(X_ws, sample.observation) != Status::ok) {
+      continue;  // keep the last command; the watchdog stops the arm if this persists
+    }
+    const SE3d& X_sf = filter.filtered().mean;
+    Status s;
+    if (push) {
+      s = pusher.step(X_sf, X_ws, dt, u);
+      if (s == Status::ok && pusher.terminated()) {
+        result.outcome = "target reached";
+        return;
+      }
+    } else {
+      s = servo.step(X_sf, dt, u);
+    }
+    if (s != Status::ok) continue;
+    robot.commandVelocity(u, dt, sample.in_contact);
+  }
+  result.outcome = "interrupted";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Args args;
+  try {
+    args = parseArgs(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    usage();
+    return 2;
+  }
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+
+  try {
+    FrankaAdapterOptions ro;
+    ro.robot_ip = args.robot_ip;
+    ro.X_ee_s = poseFromMmDeg(args.mount);
+    ro.limits.translation.velocity = args.max_speed * 1e-3;
+    ro.watchdog.command_timeout_s = 0.2;
+    FrankaAdapter robot(ro);
+
+    if (!args.start.empty()) {
+      std::puts("moving to the start pose");
+      const Status s = robot.moveTo(poseFromMmDeg(args.start));
+      if (s != Status::ok) {
+        std::fprintf(stderr, "moveTo failed: %s %s\n", lieservo::describe(s), robot.lastError().c_str());
+        return 1;
+      }
+    }
+
+    OpenCvGdnFrontEnd sensor(args);  // captures the no-contact reference: keep the tip free
+    std::atomic<bool> quit{false};
+    LoopResult result;
+    std::thread tactile([&] { tactileLoop(args, robot, sensor, quit, result); });
+    std::atomic<bool> tactile_done{false};
+    std::thread waiter([&] {
+      tactile.join();
+      tactile_done.store(true);
+    });
+    for (int tick = 0; !tactile_done.load(); ++tick) {
+      if (g_interrupted.load()) {
+        quit.store(true);
+        robot.stop();  // ramp down now; the tactile thread ends after its current frame
+      }
+      if (tick % 10 == 0) {
+        const auto st = robot.stats();
+        std::printf("loop %s, watchdog: %s, callbacks %llu, lost cycles %llu\n", st.running ? "running" : "idle",
+                    lieservo::realtime::describe(st.watchdog), static_cast<unsigned long long>(st.callbacks),
+                    static_cast<unsigned long long>(st.lost_cycles));
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    waiter.join();
+    robot.stop();  // ramp to zero inside the limits and end the libfranka motion
+    std::printf("finished: %s\n", result.outcome.c_str());
+    if (!robot.lastError().empty()) std::printf("last libfranka error: %s\n", robot.lastError().c_str());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,303 @@
+#!/usr/bin/python3
+"""Unit tests for examples/gdn (plain asserts; exit status != 0 on failure).
+
+    /usr/bin/python3 examples/gdn/test_gdn.py
+
+Data-dependent checks use /work/shared/data/tactip (or $LIESERVO_DATA) and are skipped with a
+message when it is absent. Needs only python3-torch, python3-onnx, python3-numpy,
+python3-opencv.
+"""
+from __future__ import annotations
+
+import csv
+import math
+import os
+import sys
+import tempfile
+import traceback
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+
+import torch  # noqa: E402
+
+torch.set_num_threads(1)
+
+import labels as L  # noqa: E402
+from dataset import (DatasetError, default_data_dir, euler6_from_targets, load_image,  # noqa: E402
+                     read_json, read_targets)
+from model import build, softbound, stable_softplus  # noqa: E402
+
+TESTS = []
+SKIPPED = []
+
+
+def test(fn):
+    TESTS.append(fn)
+    return fn
+
+
+def data_dir():
+    d = os.environ.get('LIESERVO_DATA') or default_data_dir()
+    return d if os.path.isfile(os.path.join(d, 'val', 'targets.csv')) else None
+
+
+def skip(name, why):
+    SKIPPED.append(name)
+    print(f'SKIP {name}: {why}')
+
+
+# ---------------------------------------------------------------- labels
+@test
+def labels_euler_convention():
+    e = np.array([1.0, -2.0, 3.0, 10.0, -20.0, 5.0])
+    T = L.euler_sxyz_to_matrix(e)
+    a, b, g = np.radians(e[3:])
+    Rx = np.array([[1, 0, 0], [0, math.cos(a), -math.sin(a)], [0, math.sin(a), math.cos(a)]])
+    Ry = np.array([[math.cos(b), 0, math.sin(b)], [0, 1, 0], [-math.sin(b), 0, math.cos(b)]])
+    Rz = np.array([[math.cos(g), -math.sin(g), 0], [math.sin(g), math.cos(g), 0], [0, 0, 1]])
+    assert np.allclose(T[:3, :3], Rz @ Ry @ Rx, atol=1e-15)
+    assert np.allclose(T[:3, 3], e[:3])
+    Ti = L.se3_inv(T)
+    assert np.allclose(Ti @ T, np.eye(4), atol=1e-14)
+
+
+@test
+def labels_log_exp_round_trip_synthetic():
+    rng = np.random.RandomState(1)
+    xi = rng.randn(200, 6)
+    xi[:50, 3:] *= 1e-9          # tiny angles: series branch
+    xi[50:100, 3:] *= 1e-3
+    xi[100:, 3:] = xi[100:, 3:] / np.linalg.norm(xi[100:, 3:], axis=1, keepdims=True) \
+        * rng.uniform(0.01, math.pi - 1e-3, (100, 1))
+    T = L.se3_exp(xi)
+    xi2 = L.se3_log(T)
+    assert np.abs(xi2 - xi).max() < 1e-9, np.abs(xi2 - xi).max()
+    # near pi: compare via exp (sign of axis is ambiguous at exactly pi)
+    phi = np.array([[0.0, 0.0, math.pi - 1e-7], [1.0, 1.0, 0.0]])
+    phi[1] *= (math.pi - 1e-6) / np.linalg.norm(phi[1])
+    R = L.so3_exp(phi)
+    assert np.abs(L.so3_exp(L.so3_log(R)) - R).max() < 1e-6
+    # identity
+    assert np.abs(L.se3_log(np.eye(4))).max() == 0.0
+
+
+@test
+def labels_reference_csv_consistent():
+    """labels_reference.csv (for the C++ test) agrees with labels.py, and exp(xi) == X_fs^-1."""
+    path = os.path.join(HERE, 'labels_reference.csv')
+    assert os.path.isfile(path), path
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == 20
+    e6 = np.array([[float(r[k]) for k in ('x_mm', 'y_mm', 'z_mm', 'alpha_deg', 'beta_deg', 'gamma_deg')]
+                   for r in rows])
+    ref = np.array([[float(r[k]) for k in ('rho1_mm', 'rho2_mm', 'rho3_mm', 'phi1_rad', 'phi2_rad',
+                                           'phi3_rad')] for r in rows])
+    xi = L.xi_from_euler6(e6)
+    assert np.abs(xi - ref).max() < 1e-12
+    T = L.se3_inv(L.euler_sxyz_to_matrix(e6))
+    assert np.abs(L.se3_exp(ref) - T).max() < 1e-12
+
+
+@test
+def labels_real_rows():
+    d = data_dir()
+    if d is None:
+        return skip('labels_real_rows', 'no data set (set LIESERVO_DATA)')
+    names, t = read_targets(os.path.join(d, 'val', 'targets.csv'))
+    assert len(names) == 2000
+    e6 = euler6_from_targets(t)
+    # README: pose x, y, Rz and shear z, Rx, Ry are zero
+    for c in ('pose_x', 'pose_y', 'pose_Rz', 'shear_z', 'shear_Rx', 'shear_Ry'):
+        assert np.all(t[c] == 0), c
+    T = L.euler_sxyz_to_matrix(e6)
+    xi = L.xi_from_euler6(e6)
+    assert np.abs(L.se3_exp(xi) @ T - np.eye(4)).max() < 1e-12       # exp(xi) = X_fs^-1
+    assert np.abs(L.se3_log(L.se3_exp(xi)) - xi).max() < 1e-12
+    # rotation angle of X_sf equals the total tilt/twist (angles within the sampled ranges)
+    assert np.linalg.norm(xi[:, 3:], axis=1).max() < math.radians(40)
+    # X_fs = X_par X_perp where X_perp = (rotation alpha, beta; then press in by z along the
+    # surface normal of {f}) and X_par = (x, y translation, gamma rotation): the Euler 6-vector
+    # of the composition is the README's (shear_x, shear_y, pose_z, pose_Rx, pose_Ry, shear_Rz)
+    Tperp = L.euler_sxyz_to_matrix(np.stack([0 * e6[:, 0], 0 * e6[:, 0], e6[:, 2], e6[:, 3], e6[:, 4],
+                                             0 * e6[:, 0]], 1))
+    Tpar = L.euler_sxyz_to_matrix(np.stack([e6[:, 0], e6[:, 1], 0 * e6[:, 0], 0 * e6[:, 0],
+                                            0 * e6[:, 0], e6[:, 5]], 1))
+    comp = Tpar @ Tperp
+    assert np.allclose(comp[:, :3, :3], T[:, :3, :3], atol=1e-14)
+    with open(os.path.join(HERE, 'labels_reference.csv')) as f:
+        ref = list(csv.DictReader(f))
+    assert [r['sensor_image'] for r in ref] == names[:20]
+    refxi = np.array([[float(r[k]) for k in list(r)[7:]] for r in ref])
+    assert np.abs(refxi - xi[:20]).max() < 1e-12
+
+
+# ---------------------------------------------------------------- softplus / softbound
+@test
+def stable_softplus_matches_torch():
+    z = torch.cat([torch.linspace(-200, 200, 4001, dtype=torch.float64),
+                   torch.tensor([-1e6, -1e3, 1e3, 1e6], dtype=torch.float64)])
+    a = stable_softplus(z)
+    b = torch.nn.functional.softplus(z)      # (uses x for x > 20: differs by < exp(-20))
+    exact = torch.from_numpy(np.logaddexp(0.0, z.numpy()))
+    assert torch.isfinite(a).all()
+    assert (a - exact).abs().max() < 1e-12
+    assert (a - b).abs().max() < 1e-8
+    z32 = z.float()
+    a32 = stable_softplus(z32)
+    assert torch.isfinite(a32).all() and ((a32.double() - b).abs() / b.clamp(min=1)).max() < 1e-6
+
+
+@test
+def softbound_matches_definition_and_bounds():
+    x = torch.linspace(-50, 50, 1001, dtype=torch.float64)
+    sp = torch.nn.functional.softplus
+    ref = 1e-6 + sp(x - 1e-6) - sp(x - 1e6)
+    exact = 1e-6 + np.logaddexp(0, x.numpy() - 1e-6) - np.logaddexp(0, x.numpy() - 1e6)
+    assert np.abs(softbound(x).numpy() - exact).max() < 1e-12
+    assert (softbound(x) - ref).abs().max() < 1e-8
+    big = torch.tensor([-1e9, -1e3, 1e3, 2e6, 1e9], dtype=torch.float32)
+    y = softbound(big)
+    assert torch.isfinite(y).all()
+    assert (y >= 1e-6 * (1 - 1e-6)).all() and (y <= 1e6 * (1 + 1e-6)).all(), y
+    assert abs(float(y[0]) - 1e-6) < 1e-9 and abs(float(y[-1]) - 1e6) < 1.0
+    assert abs(float(softbound(torch.tensor(50.0))) - 50.0) < 1e-4
+
+
+# ---------------------------------------------------------------- data reader
+@test
+def reader_malformed_json_clear_error():
+    with tempfile.TemporaryDirectory() as td:
+        p = os.path.join(td, 'env_params.json')
+        with open(p, 'w') as f:
+            f.write('{"robot": "franka",\n "tcp_pose": [0, 0, 72, 0, 0, 225]]}\n')
+        try:
+            read_json(p)
+        except DatasetError as e:
+            msg = str(e)
+            assert p in msg and 'line 2' in msg and 'column 35' in msg, msg
+        else:
+            raise AssertionError('no error for malformed JSON')
+        q = os.path.join(td, 'meta.json')
+        with open(q, 'w') as f:
+            f.write('{"z_shear_rng": [-Infinity, -Infinity], "phi": [Infinity, 1]}')
+        v = read_json(q)
+        assert v['z_shear_rng'][0] == -math.inf and v['phi'][0] == math.inf
+        try:
+            read_json(os.path.join(td, 'nope.json'))
+        except DatasetError as e:
+            assert 'nope.json' in str(e)
+        else:
+            raise AssertionError('no error for missing JSON')
+        try:
+            load_image(os.path.join(td, 'image_999.png'))
+        except DatasetError as e:
+            assert 'image_999.png' in str(e)
+        else:
+            raise AssertionError('no error for missing image')
+        try:
+            read_targets(os.path.join(td, 'targets.csv'))
+        except DatasetError as e:
+            assert 'targets.csv' in str(e)
+        else:
+            raise AssertionError('no error for missing targets.csv')
+
+
+@test
+def reader_real_files():
+    d = data_dir()
+    if d is None:
+        return skip('reader_real_files', 'no data set (set LIESERVO_DATA)')
+    meta = read_json(os.path.join(d, 'val', 'meta.json'))
+    assert meta['phi_max'] == 25 and math.isinf(meta['z_shear_rng'][0])
+    try:
+        read_json(os.path.join(d, 'val', 'env_params.json'))
+        print('note: env_params.json parsed (no longer malformed?)')
+    except DatasetError as e:
+        assert 'env_params.json' in str(e) and 'line 1' in str(e)
+    img = load_image(os.path.join(d, 'val', 'processed_images', 'image_1.png'))
+    assert img.shape == (128, 128) and img.dtype == np.uint8 and 0 < img.mean() < 255
+
+
+# ---------------------------------------------------------------- ONNX / cv2.dnn
+def _export_and_compare(kind, channels=(4, 8, 16)):
+    import cv2
+    from export_onnx import export_model
+    torch.manual_seed(3)
+    m = build(kind, channels).eval()
+    with torch.no_grad():   # give BN non-trivial statistics
+        for mod in m.modules():
+            if isinstance(mod, torch.nn.BatchNorm2d):
+                mod.running_mean.uniform_(-0.1, 0.1)
+                mod.running_var.uniform_(0.5, 2.0)
+    with tempfile.TemporaryDirectory() as td:
+        p = os.path.join(td, f'{kind}.onnx')
+        ops = export_model(m, p)
+        for bad in ('Where', 'Clip', 'Min', 'Max', 'Reshape', 'Softplus', 'Identity'):
+            assert bad not in ops, (bad, ops)
+        net = cv2.dnn.readNetFromONNX(p)
+        for n in (1, 3):
+            x = np.random.RandomState(n).rand(n, 1, 128, 128).astype(np.float32)
+            net.setInput(x)
+            y_cv = net.forward()
+            with torch.no_grad():
+                y_pt = m(torch.from_numpy(x)).numpy()
+            assert y_cv.shape == y_pt.shape == (n, 12 if kind == 'gdn' else 6), (y_cv.shape, y_pt.shape)
+            assert np.abs(y_cv - y_pt).max() < 1e-4, np.abs(y_cv - y_pt).max()
+
+
+@test
+def onnx_tiny_gdn_cv2_matches_torch():
+    _export_and_compare('gdn')
+
+
+@test
+def onnx_tiny_cnn_cv2_matches_torch():
+    _export_and_compare('cnn')
+
+
+@test
+def onnx_trained_gdn_reference_outputs():
+    import cv2
+    onnx_path = os.path.join(HERE, 'models', 'gdn.onnx')
+    ref_path = os.path.join(HERE, 'models', 'gdn_reference_outputs.csv')
+    if not (os.path.isfile(onnx_path) and os.path.isfile(ref_path)):
+        return skip('onnx_trained_gdn_reference_outputs', 'models/gdn.onnx not exported yet')
+    d = data_dir()
+    if d is None:
+        return skip('onnx_trained_gdn_reference_outputs', 'no data set (set LIESERVO_DATA)')
+    with open(ref_path) as f:
+        rows = list(csv.DictReader(f))
+    x = np.stack([load_image(os.path.join(d, 'val', 'processed_images', r['sensor_image']))
+                  for r in rows]).astype(np.float32)[:, None] / np.float32(255)
+    ref = np.array([[float(v) for k, v in r.items() if k != 'sensor_image'] for r in rows])
+    net = cv2.dnn.readNetFromONNX(onnx_path)
+    net.setInput(x)
+    y = net.forward()
+    rel = np.abs(y - ref) / np.maximum(1.0, np.abs(ref))
+    assert rel.max() < 1e-4, rel.max()
+    assert np.all(y[:, 6:] > 0)
+
+
+def main():
+    passed = failed = 0
+    for fn in TESTS:
+        try:
+            n_skip = len(SKIPPED)
+            fn()
+            if len(SKIPPED) == n_skip:
+                print(f'ok   {fn.__name__}')
+                passed += 1
+        except Exception:
+            failed += 1
+            print(f'FAIL {fn.__name__}')
+            traceback.print_exc()
+    print(f'{passed} passed, {failed} failed' + (f', {len(SKIPPED)} skipped' if SKIPPED else ''))
+    return 1 if failed else 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,205 @@
+#!/usr/bin/python3
+"""Train the paper's GDN (or the CNN-regression baseline) pose-and-shear model on the TacTip
+data set, keep the best-validation-loss weights, and export ONNX (see export_onnx.py).
+
+    /usr/bin/python3 examples/gdn/train.py --model gdn --epochs 30 --threads 1 \
+        --out /tmp/gdn_run --channels 16,32,64,128,256
+
+Labels: xi = log(X_fs^-1)^vee = (rho [mm], phi [DEGREES]) -- see labels.py / model card.
+Schedule (LRPD): lr 1e-5 -> 1e-3 linearly over 3 epochs (per step), hold 1 epoch, then
+lr = (1e-3 - 1e-7) sqrt(1 - d / (e_max - 4)) + 1e-7 with d the epochs since the hold, so that
+the schedule reaches 1e-7 at epoch e_max (paper: e_max = 50). Early stopping: patience 25.
+"""
+from __future__ import annotations
+
+import argparse
+import datetime as dt
+import json
+import math
+import os
+import sys
+import time
+
+import numpy as np
+import torch
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+
+from dataset import default_data_dir, load_split  # noqa: E402
+import labels as L  # noqa: E402
+from model import CNN_ALPHA_DEG, build, gdn_nll, weighted_mse  # noqa: E402
+
+COMP = ['rho1_mm', 'rho2_mm', 'rho3_mm', 'phi1_deg', 'phi2_deg', 'phi3_deg']
+
+
+def lrpd(e: float, e_max: float, lr0=1e-5, lr1=1e-3, lr_end=1e-7, ramp=3.0, hold=1.0) -> float:
+    """LRPD schedule at (fractional) epoch e."""
+    if e < ramp:
+        return lr0 + (lr1 - lr0) * e / ramp
+    if e < ramp + hold:
+        return lr1
+    span = max(e_max - ramp - hold, 1e-9)
+    f = max(0.0, 1.0 - (e - ramp - hold) / span)
+    return (lr1 - lr_end) * math.sqrt(f) + lr_end
+
+
+def evaluate(model, kind, X, Y, alpha, bs=32):
+    model.eval()
+    outs = []
+    with torch.no_grad():
+        for i in range(0, len(X), bs):
+            outs.append(model(X[i:i + bs]))
+    out = torch.cat(outs)
+    loss = gdn_nll(out, Y) if kind == 'gdn' else weighted_mse(out, Y, alpha)
+    mae = (out[:, :6] - Y).abs().mean(0)
+    return float(loss), mae.numpy().astype(float), out
+
+
+def parse_deadline(s):
+    if not s:
+        return None
+    now = dt.datetime.now(dt.timezone.utc)
+    hh, mm = (int(v) for v in s.split(':'))
+    d = now.replace(hour=hh, minute=mm, second=0, microsecond=0)
+    if d < now - dt.timedelta(hours=12):
+        d += dt.timedelta(days=1)
+    return d.timestamp()
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument('--model', choices=['gdn', 'cnn'], default='gdn')
+    ap.add_argument('--epochs', type=int, default=50, help='max epochs to run')
+    ap.add_argument('--e-max', type=float, default=None,
+                    help='epoch at which the LRPD schedule reaches 1e-7 (default: --epochs)')
+    ap.add_argument('--patience', type=int, default=25)
+    ap.add_argument('--lr-max', type=float, default=1e-3, help='peak learning rate (paper 1e-3)')
+    ap.add_argument('--channels', default='16,32,64,128,256')
+    ap.add_argument('--batch', type=int, default=16)
+    ap.add_argument('--threads', type=int, default=1)
+    ap.add_argument('--seed', type=int, default=0)
+    ap.add_argument('--out', required=True, help='run directory (checkpoints, history)')
+    ap.add_argument('--data', default=None, help='data dir with train/ and val/ (default: '
+                    'LIESERVO_DATA, ../shared/data/tactip from the repo root, /work/shared/data/tactip)')
+    ap.add_argument('--deadline', default=None,
+                    help='HH:MM UTC; do not start an epoch that would end after it')
+    ap.add_argument('--max-batches', type=int, default=None, help='(timing) batches per epoch')
+    ap.add_argument('--export', default=None, help='write ONNX here at the end')
+    args = ap.parse_args(argv)
+
+    torch.set_num_threads(args.threads)
+    try:
+        torch.set_num_interop_threads(1)
+    except RuntimeError:
+        pass
+    torch.manual_seed(args.seed)
+    np.random.seed(args.seed)
+    channels = tuple(int(c) for c in args.channels.split(','))
+    e_max = args.e_max if args.e_max is not None else float(args.epochs)
+    deadline = parse_deadline(args.deadline)
+    os.makedirs(args.out, exist_ok=True)
+    data = args.data or default_data_dir()
+
+    tr = load_split(data, 'train')
+    va = load_split(data, 'val')
+    Xtr = torch.from_numpy(tr.images)
+    Xva = torch.from_numpy(va.images)
+    Ytr = torch.from_numpy(L.to_train_units(L.xi_from_euler6(tr.euler6)).astype(np.float32))
+    Yva = torch.from_numpy(L.to_train_units(L.xi_from_euler6(va.euler6)).astype(np.float32))
+    alpha = torch.tensor(CNN_ALPHA_DEG, dtype=torch.float32)
+
+    model = build(args.model, channels)
+    n_par = sum(p.numel() for p in model.parameters())
+    opt = torch.optim.Adam(model.parameters(), lr=1e-5)
+    rng = np.random.RandomState(args.seed)
+    n = len(Xtr)
+    steps = n // args.batch + (1 if n % args.batch else 0)
+    if args.max_batches:
+        steps = min(steps, args.max_batches)
+    print(f'model={args.model} channels={channels} params={n_par} train={n} val={len(Xva)} '
+          f'batch={args.batch} steps/epoch={steps} e_max={e_max} threads={args.threads} '
+          f'seed={args.seed}', flush=True)
+
+    hist = []
+    best = (math.inf, -1)
+    best_path = os.path.join(args.out, f'{args.model}_best.pt')
+    t_start = time.time()
+    ep_times = []
+    for ep in range(args.epochs):
+        if deadline is not None and ep_times:
+            est = float(np.mean(ep_times[-3:]))
+            if time.time() + est > deadline:
+                print(f'stopping before epoch {ep + 1}: deadline {args.deadline} UTC '
+                      f'(~{est:.0f} s/epoch)', flush=True)
+                break
+            # deadline-aware schedule: if fewer epochs than e_max fit before the deadline,
+            # shorten the decay so that lr still reaches ~1e-7 at the last epoch (never lengthen)
+            med = float(np.median(ep_times))   # robust to one slow (contended) epoch
+            fit = ep + int((deadline - time.time()) // (med * 1.05))
+            if fit < e_max and fit >= 4:
+                if fit < e_max - 0.5:
+                    print(f'  deadline: shortening schedule e_max {e_max} -> {fit}', flush=True)
+                e_max = float(fit)
+        t0 = time.time()
+        model.train()
+        perm = rng.permutation(n)
+        tot, cnt = 0.0, 0
+        for b in range(steps):
+            idx = torch.from_numpy(perm[b * args.batch:(b + 1) * args.batch])
+            lr = lrpd(ep + b / steps, e_max, lr1=args.lr_max)
+            for g in opt.param_groups:
+                g['lr'] = lr
+            out = model(Xtr[idx])
+            loss = gdn_nll(out, Ytr[idx]) if args.model == 'gdn' else weighted_mse(out, Ytr[idx], alpha)
+            opt.zero_grad(set_to_none=True)
+            loss.backward()
+            opt.step()
+            tot += float(loss) * len(idx)
+            cnt += len(idx)
+        t_train = time.time() - t0
+        vloss, vmae, _ = evaluate(model, args.model, Xva, Yva, alpha)
+        sec = time.time() - t0
+        ep_times.append(sec)
+        rec = dict(epoch=ep + 1, train_loss=tot / cnt, val_loss=vloss, val_mae=list(vmae),
+                   lr=lr, e_max=e_max, seconds=sec, train_seconds=t_train)
+        hist.append(rec)
+        improved = vloss < best[0]
+        if improved:
+            best = (vloss, ep + 1)
+            torch.save({'state_dict': model.state_dict(), 'kind': args.model,
+                        'channels': channels, 'epoch': ep + 1, 'val_loss': vloss,
+                        'val_mae': list(vmae)}, best_path)
+        print(f'ep {ep + 1:3d} train {tot / cnt:9.4f} val {vloss:9.4f} mae '
+              + ' '.join(f'{m:.3f}' for m in vmae)
+              + f' lr {lr:.2e} {sec:6.1f}s{" *" if improved else ""}', flush=True)
+        with open(os.path.join(args.out, f'{args.model}_history.json'), 'w') as f:
+            json.dump(dict(args=vars(args), channels=channels, params=n_par, history=hist,
+                           best_epoch=best[1], best_val_loss=best[0]), f, indent=1)
+        if ep + 1 - best[1] >= args.patience:
+            print(f'early stop: no improvement for {args.patience} epochs', flush=True)
+            break
+        if ep + 1 >= e_max:
+            print(f'schedule finished (lr reached 1e-7 at e_max={e_max:g})', flush=True)
+            break
+
+    # final metrics from the best weights
+    ck = torch.load(best_path)
+    model.load_state_dict(ck['state_dict'])
+    vloss, vmae, _ = evaluate(model, args.model, Xva, Yva, alpha)
+    summary = dict(kind=args.model, channels=channels, params=n_par, seed=args.seed,
+                   epochs_run=len(hist), e_max=e_max, best_epoch=best[1],
+                   seconds_per_epoch=float(np.mean(ep_times)) if ep_times else None,
+                   total_seconds=time.time() - t_start, threads=args.threads,
+                   batch=args.batch, val_loss=vloss, val_mae=dict(zip(COMP, map(float, vmae))))
+    with open(os.path.join(args.out, f'{args.model}_summary.json'), 'w') as f:
+        json.dump(summary, f, indent=1)
+    print('best:', json.dumps(summary), flush=True)
+    if args.export:
+        from export_onnx import export_model
+        export_model(model, args.export)
+        print('exported', args.export, flush=True)
+
+
+if __name__ == '__main__':
+    main()

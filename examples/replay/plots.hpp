@@ -1,0 +1,20 @@
+// examples/replay/plots.hpp — predicted-vs-actual scatter plots, one panel per ξ
+// component, points coloured by predicted precision σ⁻¹ (red = high, blue = low), like
+// the paper's fig:nn_pose_shear_estimate_performance / fig:bayes_filter_performance.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace lieservo::replay {
+
+/// Writes a PNG (cv::imwrite). `precision` may be empty (single colour, e.g. the CNN).
+/// All vectors in mm and deg (precision in 1/mm, 1/deg). Throws std::runtime_error when
+/// the file cannot be written.
+void writeScatterPlot(const std::string& path, const std::string& title,
+                      const std::vector<std::array<double, 6>>& actual,
+                      const std::vector<std::array<double, 6>>& predicted,
+                      const std::vector<std::array<double, 6>>& precision);
+
+}  // namespace lieservo::replay

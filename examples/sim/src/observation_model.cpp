@@ -1,0 +1,99 @@
+// GDN-like observation model (see lieservo_sim/observation_model.hpp).
+#include "lieservo_sim/observation_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+namespace lieservo::sim {
+
+GdnCalibration GdnCalibration::paperTable1() {
+  return fromValues((Vec6() << 0.426, 0.422, 0.123, 0.45, 0.64, 1.16).finished(),
+                    "paper Table 1 (tab:nn_pose_shear_estimate_results), GDN test MAE");
+}
+
+GdnCalibration GdnCalibration::fromValues(const Vec6& m, std::string source) {
+  GdnCalibration c;
+  c.mae << m[0], m[1], m[2], deg(m[3]), deg(m[4]), deg(m[5]);
+  c.source = std::move(source);
+  c.validate();
+  return c;
+}
+
+bool GdnCalibration::fromModelCard(const std::string& path, GdnCalibration& out) {
+  std::ifstream f(path);
+  if (!f) return false;
+  std::stringstream ss;
+  ss << f.rdbuf();
+  const std::string j = ss.str();
+  // Minimal extraction (no JSON dependency): models → gdn → validation → mae → six keys.
+  std::size_t pos = j.find("\"gdn\"");
+  if (pos == std::string::npos) return false;
+  pos = j.find("\"validation\"", pos);
+  if (pos == std::string::npos) return false;
+  pos = j.find("\"mae\"", pos);
+  if (pos == std::string::npos) return false;
+  const std::size_t end = j.find('}', pos);
+  const char* keys[6] = {"rho1_mm", "rho2_mm", "rho3_mm", "phi1_deg", "phi2_deg", "phi3_deg"};
+  Vec6 m;
+  for (int i = 0; i < 6; ++i) {
+    const std::size_t k = j.find(std::string("\"") + keys[i] + "\"", pos);
+    if (k == std::string::npos || k > end) return false;
+    const std::size_t colon = j.find(':', k);
+    if (colon == std::string::npos || colon > end) return false;
+    char* stop = nullptr;
+    m[i] = std::strtod(j.c_str() + colon + 1, &stop);
+    if (stop == j.c_str() + colon + 1 || !(std::isfinite(m[i]) && m[i] > 0)) return false;
+  }
+  out = fromValues(m, "project GDN model card (" + path + "), validation MAE");
+  return true;
+}
+
+void GdnCalibration::validate() const {
+  for (int i = 0; i < 6; ++i) requirePositive(mae[i], "GdnCalibration.mae component");
+}
+
+GdnObservationModel::GdnObservationModel(const GdnCalibration& calibration, const HeteroscedasticShape& shape,
+                                         std::uint64_t seed)
+    : calib_(calibration), shape_(shape), rng_(seed) {
+  calib_.validate();
+  for (int i = 0; i < 6; ++i) {
+    requirePositive(shape_.a0[i], "HeteroscedasticShape.a0");
+    requireNonNegative(shape_.a_shear[i], "HeteroscedasticShape.a_shear");
+    requireNonNegative(shape_.a_depth[i], "HeteroscedasticShape.a_depth");
+    requireNonNegative(shape_.a_tilt[i], "HeteroscedasticShape.a_tilt");
+  }
+  requirePositive(shape_.out_of_contact_factor, "HeteroscedasticShape.out_of_contact_factor");
+  // E[h] over the training distribution: E[|s|/5] = 2/3, E[max(0, 1.5 − z)] = 1/11.
+  const double sqrt_pi_2 = std::sqrt(kPi / 2);
+  for (int i = 0; i < 6; ++i) {
+    const double Eh = shape_.a0[i] + shape_.a_shear[i] * (2.0 / 3.0) + shape_.a_depth[i] / 11.0;
+    sigma_bar_[i] = calib_.mae[i] * sqrt_pi_2 / Eh;
+  }
+}
+
+Vec6 GdnObservationModel::sigmaFor(const ContactState& c) const {
+  const double r = c.shear.norm();
+  const double shallow = std::max(0.0, 1.5 - c.depth);
+  const double tilt = std::max(0.0, c.tilt - deg(25)) / deg(10);
+  Vec6 s;
+  for (int i = 0; i < 6; ++i) {
+    double h = shape_.a0[i] + shape_.a_shear[i] * r / 5.0 + shape_.a_depth[i] * std::min(shallow, 3.0) +
+               shape_.a_tilt[i] * std::min(tilt, 5.0);
+    if (!c.in_contact) h *= shape_.out_of_contact_factor;
+    s[i] = sigma_bar_[i] * h;
+  }
+  return s;
+}
+
+GdnObservation GdnObservationModel::observe(const ContactState& c) {
+  GdnObservation o;
+  o.truth = c.X_fs.inverse().log();  // ξ = log(X_sf)^∨
+  o.sigma = sigmaFor(c);
+  for (int i = 0; i < 6; ++i) o.mu[i] = o.truth[i] + o.sigma[i] * normal_(rng_);
+  return o;
+}
+
+}  // namespace lieservo::sim

@@ -1,0 +1,240 @@
+// Task (b): surface following (paper sec:surface_follow_exp), Table 7 controller
+// (reference (0, 0, 3, 0, 0, 0): normal contact at 3 mm depth) with feedforward
+// u_s'2 = (10 cos θ, 10 sin θ, 0, 0, 0, 0) mm/s in the reference sensor frame, mapped into the
+// sensor frame with Ad(X_ss') inside TactileServoController (sec:servoing_controller).
+//
+//  * curved ramp (RampSurface, H = 40 mm, L = 200 mm: a convex-then-concave cosine profile,
+//    slope up to 17.4°): start on the top at 3 mm depth with the sensor y-axis along the
+//    ramp (work +y), heading θ = 90° (u = (0, 10, 0, …)), until the contact passes y = L + 30.
+//  * hemispherical dome (SphereSurface, radius 80 mm): start on the top at 3 mm depth,
+//    8 radial paths θ_i = 0, 45°, …, 315°, each until the contact is 50° from the pole
+//    (70 mm of arc); between paths the arm returns to the start and the filter, controller
+//    and contact anchor are reset.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <lieservo/control/presets.hpp>
+#include <lieservo/control/tactile_servo_controller.hpp>
+
+#include "task_common.hpp"
+
+namespace lieservo::sim {
+
+namespace {
+
+struct PathLog {
+  std::vector<Vec3> pos;
+  std::vector<std::pair<Vec3, Vec3>> axes;
+  std::vector<Vec2> depth, tilt;
+};
+
+// Runs one following path; `done` decides the end from the contact state.
+template <class Done>
+void followPath(detail::SensorArm& sa, lieservo::TactileServoController<SE3d>& ctrl, const TaskOptions& opt,
+                double ref_depth, double timeout, Done done, FollowingPath& out, PathLog& log, CsvWriter& csv,
+                int path_id, double& t_global, std::vector<std::string>& failures) {
+  const double dt = 1.0 / opt.control_rate, h = dt / opt.substeps;
+  const SE3d X_wo = SE3d::identity();
+  sa.touch(X_wo);
+  const Vec3 p_start = sa.state.point_w;
+  double t = 0;
+  long k = 0;
+  Vec3 p_prev = p_start;
+  while (t < timeout) {
+    SE3d X_sf;
+    Status s = sa.sense(X_sf);
+    Vec6 u = Vec6::Zero();
+    if (s == Status::ok) s = ctrl.step(X_sf, dt, u);
+    if (s != Status::ok) {
+      failures.push_back("following " + out.name + ": loop status " + lieservo::describe(s));
+      return;
+    }
+    for (int j = 0; j < opt.substeps; ++j) {
+      sa.arm.commandVelocity(u, h);
+      sa.touch(X_wo);
+    }
+    t += dt;
+    ++k;
+    const ContactState& c = sa.state;
+    out.depth_error.add(c.depth - ref_depth);
+    out.tilt.add(toDeg(c.tilt));
+    if (!c.in_contact) out.contact_kept = false;
+    out.distance += (c.point_w - p_prev).norm();
+    p_prev = c.point_w;
+    const SE3d& X = sa.arm.pose();
+    log.pos.push_back(X.translation());
+    if (k % int(opt.control_rate) == 0) log.axes.push_back({X.translation(), Vec3(X.rotationMatrix().col(2))});
+    log.depth.emplace_back(t_global + t, c.depth - ref_depth);
+    log.tilt.emplace_back(t_global + t, toDeg(c.tilt));
+    if (csv.isOpen()) {
+      const Vec6 e = euler6(X);
+      csv.row({t_global + t, double(path_id), e[0], e[1], e[2], toDeg(e[3]), toDeg(e[4]), toDeg(e[5]), c.depth,
+               toDeg(c.tilt), c.point_w.x(), c.point_w.y(), c.point_w.z(), c.shear.x(), c.shear.y()});
+    }
+    if (done(c)) {
+      out.reached_end = true;
+      break;
+    }
+    if (!c.in_contact && c.depth < -5) break;  // hopelessly off the surface
+  }
+  t_global += t;
+  out.depth_error.finish();
+  out.tilt.finish();
+}
+
+void check(const FollowingPath& p, std::vector<std::string>& failures) {
+  char buf[220];
+  if (!p.contact_kept) failures.push_back("following " + p.name + ": contact lost");
+  if (!p.reached_end) failures.push_back("following " + p.name + ": did not reach the end of the path");
+  if (p.depth_error.mean > Bounds::following_depth_mean || p.depth_error.max > Bounds::following_depth_max) {
+    std::snprintf(buf, sizeof buf, "following %s: depth error mean %.2f / max %.2f mm over bounds %.1f / %.1f",
+                  p.name.c_str(), p.depth_error.mean, p.depth_error.max, Bounds::following_depth_mean,
+                  Bounds::following_depth_max);
+    failures.push_back(buf);
+  }
+  if (p.tilt.mean > Bounds::following_tilt_mean || p.tilt.max > Bounds::following_tilt_max) {
+    std::snprintf(buf, sizeof buf, "following %s: tilt mean %.2f / max %.2f deg over bounds %.1f / %.1f",
+                  p.name.c_str(), p.tilt.mean, p.tilt.max, Bounds::following_tilt_mean, Bounds::following_tilt_max);
+    failures.push_back(buf);
+  }
+}
+
+std::vector<Vec2> proj(const std::vector<Vec3>& v, int a, int b) {
+  std::vector<Vec2> o;
+  for (const auto& p : v) o.emplace_back(p[a], p[b]);
+  return o;
+}
+
+}  // namespace
+
+FollowingResult runSurfaceFollowing(const TaskOptions& opt) {
+  opt.validate();
+  using namespace detail;
+  FollowingResult res;
+  const double R = opt.contact.tip_radius;
+  const double ref_depth = lieservo::paper::kSurfaceFollowing.reference_pose[2];
+  const double speed = lieservo::paper::kSurfaceFollowingSpeed;
+  // Sensor pointing down (z_s = −z_w) with y_s = +y_w.
+  const Mat3 R_down = fromColumns(-Vec3::UnitX(), Vec3::UnitY(), -Vec3::UnitZ());
+
+  CsvWriter csv;
+  if (!opt.out_dir.empty()) {
+    makeDirectories(opt.out_dir);
+    csv.open(join(opt.out_dir, "following.csv"),
+             {"t", "path", "sensor_x", "sensor_y", "sensor_z", "sensor_a_deg", "sensor_b_deg", "sensor_g_deg", "depth",
+              "tilt_deg", "contact_x", "contact_y", "contact_z", "shear_x", "shear_y"});
+  }
+  double t_global = 0;
+
+  // ---- curved ramp ----
+  RampSurface ramp(40, 200, 80);
+  PathLog ramp_log;
+  {
+    const double y0 = -30;
+    SensorArm sa(makePose(R_down, Vec3(0, y0, ramp.height(y0) + R - ref_depth)), ramp, opt, opt.seed * 104729 + 3);
+    lieservo::TactileServoController<SE3d> ctrl(lieservo::surfaceFollowingPreset<double>());
+    ctrl.setFeedforward(lieservo::surfaceFollowingFeedforward<double>(kPi / 2, speed));
+    res.ramp.name = "curved ramp";
+    const double y_end = ramp.length() + 30;
+    followPath(sa, ctrl, opt, ref_depth, 1.6 * (y_end - y0) / speed,
+               [&](const ContactState& c) { return c.point_w.y() > y_end; }, res.ramp, ramp_log, csv, 0, t_global,
+               res.failures);
+  }
+  check(res.ramp, res.failures);
+
+  // ---- hemispherical dome ----
+  const double a = 80;
+  SphereSurface dome(a);
+  const double stop_angle = deg(50) * std::clamp(opt.duration_scale, 0.3, 1.0);
+  std::vector<PathLog> dome_logs(8);
+  {
+    const SE3d X0 = makePose(R_down, Vec3(0, 0, a + R - ref_depth));
+    SensorArm sa(X0, dome, opt, opt.seed * 15485863 + 5);
+    lieservo::TactileServoController<SE3d> ctrl(lieservo::surfaceFollowingPreset<double>());
+    for (int i = 0; i < 8; ++i) {
+      const double th = deg(45.0 * i);
+      sa.arm.moveTo(X0);
+      sa.resetEstimation();
+      ctrl.reset();
+      ctrl.setFeedforward(lieservo::surfaceFollowingFeedforward<double>(th, speed));
+      FollowingPath p;
+      char nm[40];
+      std::snprintf(nm, sizeof nm, "dome %d deg", 45 * i);
+      p.name = nm;
+      followPath(sa, ctrl, opt, ref_depth, 2.0 * a * stop_angle / speed + 3,
+                 [&](const ContactState& c) { return std::acos(std::clamp(c.normal_w.z(), -1.0, 1.0)) > stop_angle; },
+                 p, dome_logs[i], csv, i + 1, t_global, res.failures);
+      check(p, res.failures);
+      res.dome.push_back(p);
+    }
+  }
+  // Pool the dome paths.
+  {
+    FollowingPath& P = res.dome_pooled;
+    P.name = "dome (8 paths)";
+    P.reached_end = true;
+    double n = 0;
+    for (const auto& p : res.dome) {
+      const double w = double(p.depth_error.n);
+      P.depth_error.mean += p.depth_error.mean * w;
+      P.tilt.mean += p.tilt.mean * w;
+      P.depth_error.rms += p.depth_error.rms * p.depth_error.rms * w;
+      P.tilt.rms += p.tilt.rms * p.tilt.rms * w;
+      P.depth_error.max = std::max(P.depth_error.max, p.depth_error.max);
+      P.tilt.max = std::max(P.tilt.max, p.tilt.max);
+      P.distance += p.distance;
+      P.contact_kept = P.contact_kept && p.contact_kept;
+      P.reached_end = P.reached_end && p.reached_end;
+      n += w;
+    }
+    if (n > 0) {
+      P.depth_error.mean /= n, P.tilt.mean /= n;
+      P.depth_error.rms = std::sqrt(P.depth_error.rms / n), P.tilt.rms = std::sqrt(P.tilt.rms / n);
+      P.depth_error.n = P.tilt.n = std::size_t(n);
+    }
+  }
+  res.sim_time = t_global;
+  res.success = res.failures.empty();
+
+  if (!opt.out_dir.empty()) {
+    {
+      SvgFigure fig("Surface following: curved ramp (tip-centre trajectory, sensor z-axis every 1 s)");
+      SvgPanel& P = fig.panel("y-z (side view)", "y (mm)", "z (mm)");
+      for (const auto& l : ramp.outline()) P.line(proj({l.begin() + 0, l.end()}, 1, 2), "#888", 2.0);
+      P.line(proj(ramp_log.pos, 1, 2), "#d62728", 1.2, false, "sensor");
+      for (const auto& [p, z] : ramp_log.axes) P.arrow(Vec2(p.y(), p.z()), Vec2(p.y() + 15 * z.y(), p.z() + 15 * z.z()), "#1f4fd8");
+      SvgPanel& Q = fig.panel("x-y (top view)", "x (mm)", "y (mm)");
+      Q.line(proj(ramp_log.pos, 0, 1), "#d62728", 1.2);
+      SvgPanel& D = fig.panel("depth error / tilt", "t (s)", "mm | deg");
+      D.equal_aspect = false;
+      D.line(ramp_log.depth, "#d62728", 1.0, false, "depth − 3 mm");
+      D.line(ramp_log.tilt, "#1f4fd8", 1.0, false, "tilt (deg)");
+      fig.write(join(opt.out_dir, "following_ramp.svg"));
+    }
+    {
+      SvgFigure fig("Surface following: 8 radial paths over a hemispherical dome (radius 80 mm)");
+      SvgPanel& P = fig.panel("x-y (top view)", "x (mm)", "y (mm)");
+      SvgPanel& Q = fig.panel("x-z (side view)", "x (mm)", "z (mm)");
+      SvgPanel& S = fig.panel("y-z (side view)", "y (mm)", "z (mm)");
+      const auto outl = dome.outline();
+      P.line(proj(outl.back(), 0, 1), "#888", 1.5);
+      Q.line(proj(outl[0], 0, 2), "#888", 1.5);
+      S.line(proj(outl[2], 1, 2), "#888", 1.5);
+      const char* colours[8] = {"#d62728", "#ff7f0e", "#bcbd22", "#2ca02c", "#17becf", "#1f77b4", "#9467bd", "#e377c2"};
+      for (int i = 0; i < 8; ++i) {
+        P.line(proj(dome_logs[i].pos, 0, 1), colours[i], 1.5);
+        Q.line(proj(dome_logs[i].pos, 0, 2), colours[i], 1.2);
+        S.line(proj(dome_logs[i].pos, 1, 2), colours[i], 1.2);
+        for (const auto& [p, z] : dome_logs[i].axes) {
+          Q.arrow(Vec2(p.x(), p.z()), Vec2(p.x() + 12 * z.x(), p.z() + 12 * z.z()), "#1f4fd8");
+          S.arrow(Vec2(p.y(), p.z()), Vec2(p.y() + 12 * z.y(), p.z() + 12 * z.z()), "#1f4fd8");
+        }
+      }
+      fig.write(join(opt.out_dir, "following_dome.svg"));
+    }
+  }
+  return res;
+}
+
+}  // namespace lieservo::sim

@@ -1,0 +1,255 @@
+// Task (a): object pose tracking (paper sec:obj_pose_tracking_exp).
+//
+// A leader arm holds a flat plate (PlaneSurface, normal +z_o towards the follower).  The
+// follower's sensor starts normal to the plate at 6 mm depth (Table 6 reference (0,0,6,0,0,0)).
+// Part 1 (sec:object_pose_tracking_single_exp): the leader moves 200 mm along −x, +y, +z of the
+// work frame and rotates 60° about x (−α), y, z through the plate centre, each leg out and back
+// with a smooth (raised-cosine) profile of `leg_time` s.  Part 2 (sec:object_pose_tracking_multi_exp):
+// v_j(t) = (2π b_j / T) cos(2πt/T + φ_j), b = (75, 75, 75 mm, 25°, 25°, 25°),
+// φ = (π/2, 0, …, 0), T = 30 s, three periods; integrated as position
+// p_j(t) = b_j (sin(2πt/T + φ_j) − sin φ_j) (Euler angles for the rotational part).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <lieservo/control/presets.hpp>
+#include <lieservo/control/tactile_servo_controller.hpp>
+
+#include "task_common.hpp"
+
+namespace lieservo::sim {
+
+namespace {
+
+struct Leg {
+  std::string name;
+  Vec3 translation;  // total displacement of the leg (work frame)
+  Vec3 axis;         // rotation axis (work frame), zero for translations
+  double angle;      // total rotation (rad)
+  double out;        // +1 out, −1 back
+};
+
+// Leader plate pose at time t of the single-axis sequence.  Returns false past the end.
+SE3d legPose(const std::vector<Leg>& legs, double leg_time, double hold, double t, const SE3d& X0,
+             std::size_t& leg_index) {
+  const double per = leg_time + hold;
+  leg_index = std::min<std::size_t>(std::size_t(t / per), legs.size() - 1);
+  // Accumulate the completed out/back pairs: back legs return to X0, so only the current
+  // out-leg offset matters.
+  const Leg& L = legs[leg_index];
+  const double tau = std::clamp((t - leg_index * per) / leg_time, 0.0, 1.0);
+  const double s = 0.5 * (1 - std::cos(kPi * tau));  // 0 → 1
+  const double frac = L.out > 0 ? s : 1 - s;          // back legs go 1 → 0
+  Mat3 R = Mat3::Identity();
+  if (L.axis.norm() > 0) R = Eigen::AngleAxisd(frac * L.angle, L.axis.normalized()).toRotationMatrix();
+  const Vec3 p = X0.translation() + frac * L.translation;
+  return makePose(R * X0.rotationMatrix(), p);  // rotation about the plate centre (TCP)
+}
+
+SE3d periodicPose(double t, double T, const SE3d& X0) {
+  const double b[6] = {75, 75, 75, deg(25), deg(25), deg(25)};
+  const double phi[6] = {kPi / 2, 0, 0, 0, 0, 0};
+  double q[6];
+  for (int j = 0; j < 6; ++j) q[j] = b[j] * (std::sin(2 * kPi * t / T + phi[j]) - std::sin(phi[j]));
+  return makePose(eulerToMatrix(q[3], q[4], q[5]) * X0.rotationMatrix(), X0.translation() + Vec3(q[0], q[1], q[2]));
+}
+
+}  // namespace
+
+TrackingResult runObjectTracking(const TaskOptions& opt) {
+  opt.validate();
+  using namespace detail;
+  TrackingResult res;
+  const double dt = 1.0 / opt.control_rate;
+  const double h = dt / opt.substeps;
+  const double ref_depth = lieservo::paper::kObjectTracking.reference_pose[2];
+  const double R = opt.contact.tip_radius;
+
+  PlaneSurface plate(60);
+  const SE3d X_wl0 = SE3d::identity();  // plate centre at the origin, normal +z_w
+  // Follower: z_s = −z_w, x_s = x_w, y_s = −y_w, tip centre R − 6 mm above the plate.
+  const SE3d X_ws0 = makePose(fromColumns(Vec3::UnitX(), -Vec3::UnitY(), -Vec3::UnitZ()),
+                              Vec3(0, 0, R - ref_depth));
+  SensorArm follower(X_ws0, plate, opt, opt.seed * 7919 + 11);
+  lieservo::TactileServoController<SE3d> ctrl(lieservo::objectTrackingPreset<double>());
+  if (ctrl.configurationStatus() != Status::ok) throw SceneError("object tracking preset rejected");
+
+  const double S = opt.duration_scale;
+  const double leg_time = 12.0 * std::max(0.25, S), hold = 1.0;
+  const double L = 200, A = deg(60);
+  std::vector<Leg> legs;
+  auto addPair = [&](const std::string& n, Vec3 tr, Vec3 ax, double ang) {
+    legs.push_back({n + " out", tr, ax, ang, +1});
+    legs.push_back({n + " back", tr, ax, ang, -1});
+  };
+  addPair("-x", Vec3(-L, 0, 0), Vec3::Zero(), 0);
+  addPair("+y", Vec3(0, L, 0), Vec3::Zero(), 0);
+  addPair("+z", Vec3(0, 0, L), Vec3::Zero(), 0);
+  addPair("-alpha", Vec3::Zero(), Vec3::UnitX(), -A);
+  addPair("beta", Vec3::Zero(), Vec3::UnitY(), A);
+  addPair("gamma", Vec3::Zero(), Vec3::UnitZ(), A);
+  const double T1 = legs.size() * (leg_time + hold);
+  const double Tper = 30.0;
+  const int periods = S >= 1 ? 3 : 1;
+  const double T2 = S >= 1 ? periods * Tper : std::max(5.0, S * periods * Tper);
+
+  res.segments.resize(legs.size() + 1);
+  for (std::size_t i = 0; i < legs.size(); ++i) res.segments[i].name = legs[i].name;
+  res.segments.back().name = "periodic";
+
+  CsvWriter csv;
+  if (!opt.out_dir.empty()) {
+    makeDirectories(opt.out_dir);
+    csv.open(join(opt.out_dir, "tracking.csv"),
+             {"t", "part", "leader_x", "leader_y", "leader_z", "leader_a_deg", "leader_b_deg", "leader_g_deg",
+              "sensor_x", "sensor_y", "sensor_z", "sensor_a_deg", "sensor_b_deg", "sensor_g_deg", "depth",
+              "depth_est", "tilt_deg", "shear_x", "shear_y", "twist_deg", "slipped"});
+  }
+  std::vector<Vec3> lead1, foll1, lead2, foll2;
+  std::vector<std::pair<Vec3, Vec3>> axes1, axes2;  // follower position, z axis (sampled)
+  std::vector<Vec2> depth_series, tilt_series;
+
+  SE3d X_wl = X_wl0;
+  follower.touch(X_wl);
+  double t = 0;
+  const double Ttot = T1 + T2;
+  long k = 0;
+  while (t < Ttot - 1e-9) {
+    const bool part2 = t >= T1;
+    std::size_t leg = legs.size();
+    // Control step: observe, filter, control.
+    SE3d X_sf;
+    Status s = follower.sense(X_sf);
+    Vec6 u = Vec6::Zero();
+    if (s == Status::ok) s = ctrl.step(X_sf, dt, u);
+    if (s != Status::ok) {
+      res.failures.push_back(std::string("tracking: loop status ") + lieservo::describe(s));
+      break;
+    }
+    // Sub-steps: leader moves, follower integrates, contact sticks/slips.
+    for (int j = 0; j < opt.substeps; ++j) {
+      const double tj = t + (j + 1) * h;
+      X_wl = tj < T1 ? legPose(legs, leg_time, hold, tj, X_wl0, leg) : periodicPose(tj - T1, Tper, X_wl0);
+      follower.arm.commandVelocity(u, h);
+      follower.touch(X_wl);
+    }
+    t += dt;
+    ++k;
+    if (!part2) legPose(legs, leg_time, hold, t - 0.5 * dt, X_wl0, leg);
+    TrackingSegment& seg = part2 ? res.segments.back() : res.segments[leg];
+    const ContactState& c = follower.state;
+    const double depth_err = c.depth - ref_depth;
+    const Vec3 pc = X_wl.inverse() * c.point_w;
+    seg.depth_error.add(depth_err);
+    seg.tilt.add(toDeg(c.tilt));
+    seg.twist.add(toDeg(c.twist));
+    seg.lag.add(pc.head<2>().norm());
+    if (!c.in_contact) seg.contact_kept = false;
+    const SE3d& Xs = follower.arm.pose();
+    if (csv.isOpen()) {
+      const Vec6 el = euler6(X_wl), es = euler6(Xs);
+      const Vec6 est = euler6(follower.filter.filtered().mean.inverse());
+      csv.row({t, part2 ? 2.0 : 1.0, el[0], el[1], el[2], toDeg(el[3]), toDeg(el[4]), toDeg(el[5]), es[0], es[1], es[2],
+               toDeg(es[3]), toDeg(es[4]), toDeg(es[5]), c.depth, est[2], toDeg(c.tilt), c.shear.x(), c.shear.y(),
+               toDeg(c.twist), c.slipped ? 1.0 : 0.0});
+    }
+    (part2 ? lead2 : lead1).push_back(X_wl.translation());
+    (part2 ? foll2 : foll1).push_back(Xs.translation());
+    if (k % int(opt.control_rate) == 0)
+      (part2 ? axes2 : axes1).push_back({Xs.translation(), Vec3(Xs.rotationMatrix().col(2))});
+    depth_series.emplace_back(t, depth_err);
+    tilt_series.emplace_back(t, toDeg(c.tilt));
+  }
+  res.sim_time = t;
+  for (auto& s : res.segments) {
+    s.depth_error.finish();
+    s.tilt.finish();
+    s.twist.finish();
+    s.lag.finish();
+  }
+  // Pool the single-axis legs.
+  auto pool = [](const std::vector<TrackingSegment>& segs, std::size_t b, std::size_t e, const std::string& n) {
+    TrackingSegment p;
+    p.name = n;
+    double wd = 0, wt = 0, ww = 0, wl = 0, rd = 0, rt = 0, rw = 0, rl = 0;
+    std::size_t N = 0;
+    for (std::size_t i = b; i < e; ++i) {
+      const auto& s = segs[i];
+      const double n_i = double(s.depth_error.n);
+      N += s.depth_error.n;
+      wd += s.depth_error.mean * n_i, wt += s.tilt.mean * n_i, ww += s.twist.mean * n_i, wl += s.lag.mean * n_i;
+      rd += s.depth_error.rms * s.depth_error.rms * n_i, rt += s.tilt.rms * s.tilt.rms * n_i;
+      rw += s.twist.rms * s.twist.rms * n_i, rl += s.lag.rms * s.lag.rms * n_i;
+      p.depth_error.max = std::max(p.depth_error.max, s.depth_error.max);
+      p.tilt.max = std::max(p.tilt.max, s.tilt.max);
+      p.twist.max = std::max(p.twist.max, s.twist.max);
+      p.lag.max = std::max(p.lag.max, s.lag.max);
+      p.contact_kept = p.contact_kept && s.contact_kept;
+    }
+    if (N) {
+      const double n = double(N);
+      p.depth_error.mean = wd / n, p.tilt.mean = wt / n, p.twist.mean = ww / n, p.lag.mean = wl / n;
+      p.depth_error.rms = std::sqrt(rd / n), p.tilt.rms = std::sqrt(rt / n), p.twist.rms = std::sqrt(rw / n);
+      p.lag.rms = std::sqrt(rl / n);
+      p.depth_error.n = p.tilt.n = p.twist.n = p.lag.n = N;
+    }
+    return p;
+  };
+  res.single_axis = pool(res.segments, 0, legs.size(), "single-axis");
+  res.periodic = res.segments.back();
+
+  for (const TrackingSegment* p : {&res.single_axis, &res.periodic}) {
+    char buf[200];
+    if (!p->contact_kept) res.failures.push_back("tracking " + p->name + ": contact lost");
+    if (p->depth_error.mean > Bounds::tracking_depth_mean || p->depth_error.max > Bounds::tracking_depth_max) {
+      std::snprintf(buf, sizeof buf, "tracking %s: depth error mean %.2f / max %.2f mm over bounds %.1f / %.1f",
+                    p->name.c_str(), p->depth_error.mean, p->depth_error.max, Bounds::tracking_depth_mean,
+                    Bounds::tracking_depth_max);
+      res.failures.push_back(buf);
+    }
+    if (p->tilt.mean > Bounds::tracking_tilt_mean || p->tilt.max > Bounds::tracking_tilt_max) {
+      std::snprintf(buf, sizeof buf, "tracking %s: tilt mean %.2f / max %.2f deg over bounds %.1f / %.1f",
+                    p->name.c_str(), p->tilt.mean, p->tilt.max, Bounds::tracking_tilt_mean, Bounds::tracking_tilt_max);
+      res.failures.push_back(buf);
+    }
+  }
+  res.success = res.failures.empty();
+
+  if (!opt.out_dir.empty()) {
+    auto proj = [](const std::vector<Vec3>& v, int a, int b) {
+      std::vector<Vec2> o;
+      o.reserve(v.size());
+      for (const auto& p : v) o.emplace_back(p[a], p[b]);
+      return o;
+    };
+    auto addAxes = [](SvgPanel& P, const std::vector<std::pair<Vec3, Vec3>>& ax, int a, int b) {
+      for (const auto& [p, z] : ax) P.arrow(Vec2(p[a], p[b]), Vec2(p[a] + 10 * z[a], p[b] + 10 * z[b]), "#1f4fd8");
+    };
+    const char* names[3] = {"x (mm)", "y (mm)", "z (mm)"};
+    const int pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+    for (int part = 1; part <= 2; ++part) {
+      SvgFigure fig(part == 1 ? "Object tracking: single-axis moves (leader plate centre vs follower tip centre)"
+                              : "Object tracking: periodic trajectory (3 periods)");
+      for (const auto& pr : pairs) {
+        SvgPanel& P = fig.panel(std::string(names[pr[0]]).substr(0, 1) + "-" + std::string(names[pr[1]]).substr(0, 1) +
+                                    " projection",
+                                names[pr[0]], names[pr[1]]);
+        P.line(proj(part == 1 ? lead1 : lead2, pr[0], pr[1]), "#888", 1.5, true, "leader (plate)");
+        P.line(proj(part == 1 ? foll1 : foll2, pr[0], pr[1]), "#d62728", 1.2, false, "follower (sensor)");
+        addAxes(P, part == 1 ? axes1 : axes2, pr[0], pr[1]);
+      }
+      fig.write(join(opt.out_dir, part == 1 ? "tracking_single_axis.svg" : "tracking_periodic.svg"));
+    }
+    SvgFigure ts("Object tracking: contact-depth error and tilt from the normal");
+    SvgPanel& a = ts.panel("depth error (true − 6 mm)", "t (s)", "mm");
+    a.equal_aspect = false;
+    a.line(depth_series, "#d62728", 1.0);
+    SvgPanel& b = ts.panel("angle from surface normal", "t (s)", "deg");
+    b.equal_aspect = false;
+    b.line(tilt_series, "#1f4fd8", 1.0);
+    ts.write(join(opt.out_dir, "tracking_errors.svg"), 520);
+  }
+  return res;
+}
+
+}  // namespace lieservo::sim

@@ -1,0 +1,10 @@
+// lieservo/control.hpp — umbrella header of the control layer (paper:
+// sec:se3_feedforward_feedback_control): PID with feedforward, tactile servoing, pushing,
+// dual-arm leader/follower and the paper's controller presets (Tables 6–9).
+#pragma once
+
+#include <lieservo/control/dual_arm.hpp>
+#include <lieservo/control/pid.hpp>
+#include <lieservo/control/presets.hpp>
+#include <lieservo/control/pushing_controller.hpp>
+#include <lieservo/control/tactile_servo_controller.hpp>

@@ -1,0 +1,187 @@
+// lieservo/control/dual_arm.hpp — leader/follower dual-arm pushing
+// (paper: sec:single_dual_arm_controllers, sec:dual_arm_object_pushing_exp).
+//
+// The leader arm runs a pushing controller (Table 8, dual-arm Ki), the follower arm a
+// stabilising tactile servoing controller (Table 9).  Each arm has its own discriminative
+// Bayes filter (alg:se3_bayes_filter) turning the GDN observation of the feature pose X_sf
+// (with covariance) and the arm's sensor pose X_ws into the filtered X_sf its controller uses.
+// The two arms are decentralised: they share nothing but the time step.
+//
+// Per step and arm: filter (reset on the first observation, then step), controller step.
+// An observation rejected by the filter's gate (Status::outlier_rejected) is not an error:
+// the controller uses the predicted belief and ArmOutput::filter_status reports it.
+// When the leader's push terminates (PushingController::terminated()), both arms output a
+// zero twist: the pushing sequence is over.
+// On any non-ok Status nothing changes (filters, controllers, outputs).
+#pragma once
+
+#include <cmath>
+
+#include <Eigen/Core>
+
+#include <lieservo/control/presets.hpp>
+#include <lieservo/control/pushing_controller.hpp>
+#include <lieservo/control/tactile_servo_controller.hpp>
+#include <lieservo/estimation/bayes_filter.hpp>
+#include <lieservo/estimation/concentrated_gaussian.hpp>
+#include <lieservo/groups/se3.hpp>
+#include <lieservo/status.hpp>
+
+namespace lieservo {
+
+/// Leader (pusher) + follower (stabiliser), each with its own filter.  `Filter` must provide
+/// initialised(), reset(observation, sensor_pose), step(sensor_pose, observation) and
+/// filtered() (a ConcentratedGaussian<SE3<Scalar>> or anything with a `mean` member).
+template <class Scalar, class Filter = DiscriminativeBayesFilter<SE3<Scalar>>>
+class DualArmPushing {
+ public:
+  using Group = SE3<Scalar>;
+  using Tangent = typename Group::Tangent;
+  using Observation = ConcentratedGaussian<Group>;
+  using Leader = PushingController<Scalar>;
+  using Follower = TactileServoController<Group>;
+
+  struct Options {
+    typename Leader::Options leader{};
+    typename Follower::Options follower{};
+  };
+
+  /// One arm's measurements for a control cycle.
+  struct ArmInput {
+    Group sensor_pose = Group::identity();  ///< X_ws from the robot (proprioception)
+    Observation observation{};              ///< GDN estimate of X_sf with covariance
+  };
+
+  /// One arm's result for a control cycle.
+  struct ArmOutput {
+    Tangent velocity = Tangent::Zero();             ///< body twist in the arm's sensor frame
+    Group feature_in_sensor = Group::identity();    ///< filtered X_sf used by the controller
+    Status filter_status = Status::ok;              ///< ok or outlier_rejected
+  };
+
+  DualArmPushing() = default;
+  DualArmPushing(const Options& options, const Filter& leader_filter, const Filter& follower_filter)
+      : leader_filter_(leader_filter), follower_filter_(follower_filter) {
+    config_status_ = configure(options);
+  }
+
+  Status configure(const Options& options) noexcept {
+    if (Leader::validate(options.leader) != Status::ok || Follower::validate(options.follower) != Status::ok)
+      return Status::invalid_argument;
+    if (leader_.configure(options.leader) != Status::ok) return Status::invalid_argument;
+    if (follower_.configure(options.follower) != Status::ok) return Status::invalid_argument;
+    config_status_ = Status::ok;
+    return Status::ok;
+  }
+
+  /// Steps both filters and both controllers with the same dt.
+  Status step(const ArmInput& leader_in, const ArmInput& follower_in, Scalar dt, ArmOutput& leader_out,
+              ArmOutput& follower_out) noexcept {
+    if (config_status_ != Status::ok) return config_status_;
+    if (!(dt > Scalar(0)) || !std::isfinite(dt)) return Status::invalid_time_step;
+    if (!leader_in.sensor_pose.allFinite() || !follower_in.sensor_pose.allFinite())
+      return Status::non_finite_input;
+
+    const Filter leader_filter_backup = leader_filter_;
+    const Filter follower_filter_backup = follower_filter_;
+    const Leader leader_backup = leader_;
+    const Follower follower_backup = follower_;
+    auto restore = [&]() noexcept {
+      leader_filter_ = leader_filter_backup;
+      follower_filter_ = follower_filter_backup;
+      leader_ = leader_backup;
+      follower_ = follower_backup;
+    };
+
+    ArmOutput lo, fo;
+    Status s = filterStep(leader_filter_, leader_in, lo);
+    if (s != Status::ok) {
+      restore();
+      return s;
+    }
+    s = filterStep(follower_filter_, follower_in, fo);
+    if (s != Status::ok) {
+      restore();
+      return s;
+    }
+
+    s = leader_.step(lo.feature_in_sensor, leader_in.sensor_pose, dt, lo.velocity);
+    if (s != Status::ok) {
+      restore();
+      return s;
+    }
+    if (leader_.terminated()) {
+      fo.velocity.setZero();
+    } else {
+      s = follower_.step(fo.feature_in_sensor, dt, fo.velocity);
+      if (s != Status::ok) {
+        restore();
+        return s;
+      }
+    }
+    leader_out = lo;
+    follower_out = fo;
+    return Status::ok;
+  }
+
+  /// New reference sensor poses X_fs' for both arms (e.g. the tall-object offsets).
+  Status setReferences(const Group& leader_reference, const Group& follower_reference) noexcept {
+    if (!leader_reference.allFinite() || !follower_reference.allFinite()) return Status::non_finite_input;
+    leader_.setReference(leader_reference);
+    follower_.setReference(follower_reference);
+    return Status::ok;
+  }
+
+  /// Resets both controllers (filters are re-initialised by resetFilters()).
+  void reset() noexcept {
+    leader_.reset();
+    follower_.reset();
+  }
+  /// Replaces both filters (e.g. freshly constructed ones) so the next step re-initialises.
+  void resetFilters(const Filter& leader_filter, const Filter& follower_filter) {
+    leader_filter_ = leader_filter;
+    follower_filter_ = follower_filter;
+  }
+
+  bool terminated() const noexcept { return leader_.terminated(); }
+  const Leader& leader() const noexcept { return leader_; }
+  const Follower& follower() const noexcept { return follower_; }
+  Leader& leader() noexcept { return leader_; }
+  Follower& follower() noexcept { return follower_; }
+  const Filter& leaderFilter() const noexcept { return leader_filter_; }
+  const Filter& followerFilter() const noexcept { return follower_filter_; }
+  Status configurationStatus() const noexcept { return config_status_; }
+
+ private:
+  static Status filterStep(Filter& filter, const ArmInput& in, ArmOutput& out) noexcept {
+    Status s = filter.initialised() ? filter.step(in.sensor_pose, in.observation)
+                                    : filter.reset(in.observation, in.sensor_pose);
+    if (s != Status::ok && s != Status::outlier_rejected) return s;
+    if (!filter.initialised()) return Status::not_initialised;
+    out.filter_status = s;
+    out.feature_in_sensor = filter.filtered().mean;
+    return Status::ok;
+  }
+
+  Leader leader_{};
+  Follower follower_{};
+  Filter leader_filter_{};
+  Filter follower_filter_{};
+  Status config_status_ = Status::ok;
+};
+
+/// Options for the paper's dual-arm pushing (Table 8 dual-arm leader + Table 9 follower),
+/// with the tall-object reference offsets of sec:dual_arm_tall_object_pushing when
+/// `tall_object` is true.
+template <class Scalar, class Filter = DiscriminativeBayesFilter<SE3<Scalar>>>
+typename DualArmPushing<Scalar, Filter>::Options dualArmPushingPreset(bool tall_object = false,
+                                                                      const PaperGainConvention& c = {}) {
+  typename DualArmPushing<Scalar, Filter>::Options o;
+  o.leader = pushingPreset<Scalar>(tall_object ? PushingConfiguration::dual_arm_leader_tall_object
+                                               : PushingConfiguration::dual_arm_leader,
+                                   c);
+  o.follower = stabiliserPreset<Scalar>(tall_object, c);
+  return o;
+}
+
+}  // namespace lieservo

@@ -1,0 +1,287 @@
+// lieservo/control/pid.hpp — MIMO and SISO feedforward-feedback PID controllers with an
+// explicit time step (paper: eqn:ff_fb_pid_control, Section sec:tangent_space_control).
+//
+//   u_k = clip_out( v_k + Kp e_k + Ki I_k + Kd d_k )
+//
+//   I_k  = clip_int( I_{k-1} + e_k dt_k )                       backward-Euler integral
+//   ē_k  = α_k e_k + (1 − α_k) ē_{k−1}   (ē_0 = e_0)            exponentially smoothed error
+//   d_k  = (ē_k − ē_{k−1}) / dt_k        (d_0 = 0)               backward-Euler derivative of ē
+//
+// α is the weight of the newest sample.  The paper smooths "with decay coefficient 0.5": for
+// 0.5 the weight of the new sample and the decay of the old one are both 0.5, so either
+// reading gives the same filter.  α is either a fixed per-step weight (Options::smoothing,
+// the paper's behaviour at its own control rate) or derived from a time constant τ
+// (Options::smoothing_time_constant > 0): α_k = 1 − exp(−dt_k/τ), which makes the smoothing
+// independent of the control rate.
+//
+// Gains are per second: Ki multiplies ∫e dt (error·s), Kd multiplies de/dt (error/s).  Gains
+// tuned for a per-step PID (Σe, Δe; no dt) convert as Ki = Ki_step/dt, Kd = Kd_step·dt, and
+// per-step integral clipping bounds as I_max = I_max_step·dt (see docs/control.md).
+//
+// Clipping is per component, applied to the accumulated integral (anti-windup) and to the
+// total output u (feedforward included).  ±infinity means "no clipping".
+//
+// Real-time contract: update() is noexcept, never allocates, and leaves the state and its
+// output untouched unless it returns Status::ok.
+#pragma once
+
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Core>
+
+#include <lieservo/status.hpp>
+
+namespace lieservo {
+
+/// Multi-input multi-output PID with feedforward (eqn:ff_fb_pid_control).  N channels;
+/// gains are full N×N matrices (the paper uses diagonal ones: see Options::diagonal).
+template <class Scalar, int N>
+class MimoPid {
+  static_assert(N > 0, "MimoPid needs a fixed, positive number of channels");
+
+ public:
+  using Vector = Eigen::Matrix<Scalar, N, 1>;
+  using Matrix = Eigen::Matrix<Scalar, N, N>;
+
+  static constexpr Scalar infinity() noexcept { return std::numeric_limits<Scalar>::infinity(); }
+
+  struct Options {
+    Matrix kp = Matrix::Zero();  ///< proportional gain, 1/s for a velocity output (u per e)
+    Matrix ki = Matrix::Zero();  ///< integral gain, 1/s² (u per ∫e dt)
+    Matrix kd = Matrix::Zero();  ///< derivative gain, dimensionless (u per de/dt)
+    Vector integral_min = Vector::Constant(-infinity());  ///< lower clip of ∫e dt
+    Vector integral_max = Vector::Constant(infinity());   ///< upper clip of ∫e dt
+    Vector output_min = Vector::Constant(-infinity());    ///< lower clip of u
+    Vector output_max = Vector::Constant(infinity());     ///< upper clip of u
+    /// Per-step weight α ∈ (0, 1] of the newest error in the smoothed error (paper: 0.5;
+    /// 1 = no smoothing).  Used when smoothing_time_constant == 0.
+    Scalar smoothing = Scalar(0.5);
+    /// τ ≥ 0 (seconds).  When > 0, α_k = 1 − exp(−dt_k/τ) replaces `smoothing`.
+    Scalar smoothing_time_constant = Scalar(0);
+
+    /// Diagonal gain matrices from per-channel gain vectors.
+    static Options diagonal(const Vector& kp, const Vector& ki, const Vector& kd) {
+      Options o;
+      o.kp = kp.asDiagonal();
+      o.ki = ki.asDiagonal();
+      o.kd = kd.asDiagonal();
+      return o;
+    }
+    /// Same integral clip [lo, hi] on every channel.
+    Options& clipIntegral(Scalar lo, Scalar hi) {
+      integral_min.setConstant(lo);
+      integral_max.setConstant(hi);
+      return *this;
+    }
+    /// Same output clip [lo, hi] on every channel.
+    Options& clipOutput(Scalar lo, Scalar hi) {
+      output_min.setConstant(lo);
+      output_max.setConstant(hi);
+      return *this;
+    }
+  };
+
+  /// The four contributions of the last successful update (before output clipping).
+  struct Terms {
+    Vector feedforward = Vector::Zero();
+    Vector proportional = Vector::Zero();
+    Vector integral = Vector::Zero();
+    Vector derivative = Vector::Zero();
+    Vector unclipped = Vector::Zero();  ///< sum of the four
+    Vector output = Vector::Zero();     ///< after output clipping
+  };
+
+  /// Zero gains, no clipping, α = 0.5.
+  MimoPid() = default;
+
+  /// Configures with `options`; if they are invalid the controller refuses to run
+  /// (update() returns configurationStatus(), i.e. Status::invalid_argument).
+  explicit MimoPid(const Options& options) { config_status_ = configure(options); }
+
+  /// Checks options: finite gains; clip bounds not NaN with min ≤ max (±inf allowed);
+  /// smoothing ∈ (0, 1]; smoothing_time_constant finite and ≥ 0.
+  static Status validate(const Options& o) noexcept {
+    if (!o.kp.allFinite() || !o.ki.allFinite() || !o.kd.allFinite()) return Status::invalid_argument;
+    for (int i = 0; i < N; ++i) {
+      if (std::isnan(o.integral_min[i]) || std::isnan(o.integral_max[i]) ||
+          !(o.integral_min[i] <= o.integral_max[i]))
+        return Status::invalid_argument;
+      if (std::isnan(o.output_min[i]) || std::isnan(o.output_max[i]) ||
+          !(o.output_min[i] <= o.output_max[i]))
+        return Status::invalid_argument;
+    }
+    if (!(o.smoothing > Scalar(0) && o.smoothing <= Scalar(1))) return Status::invalid_argument;
+    if (!(std::isfinite(o.smoothing_time_constant) && o.smoothing_time_constant >= Scalar(0)))
+      return Status::invalid_argument;
+    return Status::ok;
+  }
+
+  /// Replaces the options (state kept; the integral is re-clipped into the new bounds).
+  /// Invalid options: returns Status::invalid_argument and changes nothing.
+  Status configure(const Options& options) noexcept {
+    const Status s = validate(options);
+    if (s != Status::ok) return s;
+    options_ = options;
+    integral_ = integral_.cwiseMax(options_.integral_min).cwiseMin(options_.integral_max);
+    config_status_ = Status::ok;
+    return Status::ok;
+  }
+
+  /// One control step.  `error` e_k, `feedforward` v_k, time step dt_k > 0 since the last
+  /// step (the first step after construction/reset uses dt only for the integral).
+  /// Status::invalid_time_step if dt ≤ 0 or non-finite; Status::non_finite_input if e or v
+  /// has a NaN/inf; Status::numerical_failure if the result overflows.  On failure nothing
+  /// changes, `u` included.
+  Status update(const Vector& error, const Vector& feedforward, Scalar dt, Vector& u) noexcept {
+    if (config_status_ != Status::ok) return config_status_;
+    if (!(dt > Scalar(0)) || !std::isfinite(dt)) return Status::invalid_time_step;
+    if (!error.allFinite() || !feedforward.allFinite()) return Status::non_finite_input;
+
+    const Vector integral =
+        (integral_ + dt * error).cwiseMax(options_.integral_min).cwiseMin(options_.integral_max);
+    Vector smoothed = Vector::Zero();
+    Vector derivative = Vector::Zero();
+    if (!started_) {
+      smoothed = error;
+      derivative.setZero();
+    } else {
+      const Scalar a = alpha(dt);
+      smoothed = a * error + (Scalar(1) - a) * smoothed_;
+      derivative = (smoothed - smoothed_) / dt;
+    }
+    Terms t;
+    t.feedforward = feedforward;
+    t.proportional.noalias() = options_.kp * error;
+    t.integral.noalias() = options_.ki * integral;
+    t.derivative.noalias() = options_.kd * derivative;
+    t.unclipped = t.feedforward + t.proportional + t.integral + t.derivative;
+    t.output = t.unclipped.cwiseMax(options_.output_min).cwiseMin(options_.output_max);
+    if (!t.output.allFinite() || !integral.allFinite() || !smoothed.allFinite() ||
+        !derivative.allFinite())
+      return Status::numerical_failure;
+
+    integral_ = integral;
+    smoothed_ = smoothed;
+    derivative_ = derivative;
+    terms_ = t;
+    started_ = true;
+    ++steps_;
+    u = t.output;
+    return Status::ok;
+  }
+
+  /// Clears the integral, the smoothed error and the derivative (options kept).
+  void reset() noexcept {
+    integral_.setZero();
+    smoothed_.setZero();
+    derivative_.setZero();
+    terms_ = Terms{};
+    started_ = false;
+    steps_ = 0;
+  }
+
+  /// Smoothing weight used for a step of length dt.
+  Scalar alpha(Scalar dt) const noexcept {
+    return options_.smoothing_time_constant > Scalar(0)
+               ? Scalar(1) - std::exp(-dt / options_.smoothing_time_constant)
+               : options_.smoothing;
+  }
+
+  const Options& options() const noexcept { return options_; }
+  Status configurationStatus() const noexcept { return config_status_; }
+  const Vector& integral() const noexcept { return integral_; }       ///< clipped ∫e dt
+  const Vector& smoothedError() const noexcept { return smoothed_; }  ///< ē_k
+  const Vector& derivative() const noexcept { return derivative_; }   ///< (ē_k − ē_{k−1})/dt
+  const Terms& lastTerms() const noexcept { return terms_; }
+  bool started() const noexcept { return started_; }
+  long steps() const noexcept { return steps_; }
+
+ private:
+  Options options_{};
+  Status config_status_ = Status::ok;
+  Vector integral_ = Vector::Zero();
+  Vector smoothed_ = Vector::Zero();
+  Vector derivative_ = Vector::Zero();
+  Terms terms_{};
+  bool started_ = false;
+  long steps_ = 0;
+};
+
+/// Single-input single-output PID with feedforward (the paper's target-alignment "PID 2",
+/// sec:pushing_controller).  Same update law and contract as MimoPid with N = 1.
+template <class Scalar>
+class SisoPid {
+  using Impl = MimoPid<Scalar, 1>;
+
+ public:
+  struct Options {
+    Scalar kp = Scalar(0);  ///< 1/s for a rate output
+    Scalar ki = Scalar(0);  ///< 1/s²
+    Scalar kd = Scalar(0);  ///< dimensionless
+    Scalar integral_min = -Impl::infinity();
+    Scalar integral_max = Impl::infinity();
+    Scalar output_min = -Impl::infinity();
+    Scalar output_max = Impl::infinity();
+    Scalar smoothing = Scalar(0.5);             ///< per-step α ∈ (0, 1]
+    Scalar smoothing_time_constant = Scalar(0); ///< τ (s); > 0 overrides `smoothing`
+  };
+  using Terms = typename Impl::Terms;
+
+  SisoPid() = default;
+  explicit SisoPid(const Options& options) { config_status_ = configure(options); }
+
+  static typename Impl::Options toMimo(const Options& o) {
+    typename Impl::Options m;
+    m.kp(0, 0) = o.kp;
+    m.ki(0, 0) = o.ki;
+    m.kd(0, 0) = o.kd;
+    m.integral_min[0] = o.integral_min;
+    m.integral_max[0] = o.integral_max;
+    m.output_min[0] = o.output_min;
+    m.output_max[0] = o.output_max;
+    m.smoothing = o.smoothing;
+    m.smoothing_time_constant = o.smoothing_time_constant;
+    return m;
+  }
+  static Status validate(const Options& o) noexcept { return Impl::validate(toMimo(o)); }
+
+  Status configure(const Options& options) noexcept {
+    const Status s = pid_.configure(toMimo(options));
+    if (s != Status::ok) return s;
+    options_ = options;
+    config_status_ = Status::ok;
+    return Status::ok;
+  }
+
+  /// See MimoPid::update.  On failure nothing changes, `u` included.
+  Status update(Scalar error, Scalar feedforward, Scalar dt, Scalar& u) noexcept {
+    if (config_status_ != Status::ok) return config_status_;
+    typename Impl::Vector e, v;
+    typename Impl::Vector out = Impl::Vector::Zero();
+    e[0] = error;
+    v[0] = feedforward;
+    const Status s = pid_.update(e, v, dt, out);
+    if (s == Status::ok) u = out[0];
+    return s;
+  }
+
+  void reset() noexcept { pid_.reset(); }
+
+  const Options& options() const noexcept { return options_; }
+  Status configurationStatus() const noexcept { return config_status_; }
+  Scalar integral() const noexcept { return pid_.integral()[0]; }
+  Scalar smoothedError() const noexcept { return pid_.smoothedError()[0]; }
+  Scalar derivative() const noexcept { return pid_.derivative()[0]; }
+  const Terms& lastTerms() const noexcept { return pid_.lastTerms(); }
+  bool started() const noexcept { return pid_.started(); }
+  long steps() const noexcept { return pid_.steps(); }
+  Scalar alpha(Scalar dt) const noexcept { return pid_.alpha(dt); }
+
+ private:
+  Impl pid_{};
+  Options options_{};
+  Status config_status_ = Status::ok;
+};
+
+}  // namespace lieservo

@@ -1,0 +1,235 @@
+// lieservo/control/pushing_controller.hpp — the tactile pushing controller: tactile servoing
+// plus target alignment (paper: sec:pushing_controller, Figure fig:pushing_controller (b)).
+//
+// Each control cycle, with X_ws the sensor pose in the robot work frame (proprioception),
+// X_wt the target pose and X_ss' the servo error of the tactile servoing controller:
+//
+//   u_servo = tactile servoing output (TactileServoController<SE3>)   sec:servoing_controller
+//   X_s't   = X_ss'⁻¹ X_ws⁻¹ X_wt                                     eqn:transformed_target_pose
+//   θ = atan2(y, z),  r = sqrt(y² + z²)   ((x, y, z) = translation of X_s't)
+//                                                                     eqn:target_bearing_distance
+//   e_θ = wrap(θ_ref − θ)                 (θ_ref = 0 in the paper)
+//   u_y = SISO PID(e_θ)                   tangential y velocity in {s'}
+//   u   = u_servo + Ad(X_ss') [0, u_y, 0, 0, 0, 0]ᵀ
+//
+// Sign: a target at positive bearing (towards +y of {s'}) gives e_θ < 0 and, with positive
+// gains, u_y < 0: the pusher slides towards −y along the contacted face, so the pushed object
+// turns its face (and, through the servoing loop, the sensor) towards the target.
+//
+// Alignment cut-off (paper ρ* = 120 mm): when r < ρ* the alignment output is zero and its PID
+// is not stepped (held); only the servoing controller acts.  r is the distance of
+// eqn:target_bearing_distance, i.e. measured in the y–z plane of the reference sensor frame.
+//
+// Termination (paper: "the centre of the sensor tip is closer than its radius of 20 mm from
+// the target"): the sensor frame origin is the tip centre, so the compared distance is that
+// between the sensor origin p_ws and the target origin p_wt, by default measured in the y–z
+// plane of the current sensor frame (the push plane: z = push direction, y = tangential;
+// the sensor-x offset — the height in the paper's right-angle-mount set-up — is ignored),
+// or, with TerminationDistance::euclidean, as the full 3-D distance ‖p_wt − p_ws‖.  Once
+// d < termination_radius the controller latches `terminated()`, outputs a zero twist and
+// steps nothing until reset() or setTarget().
+//
+// Translation units are the caller's (the paper and the presets: mm); angles in radians.
+#pragma once
+
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Core>
+
+#include <lieservo/control/pid.hpp>
+#include <lieservo/control/tactile_servo_controller.hpp>
+#include <lieservo/groups/se3.hpp>
+#include <lieservo/status.hpp>
+
+namespace lieservo {
+
+/// Which sensor-to-target distance is compared with PushingController::Options::termination_radius.
+enum class TerminationDistance {
+  sensor_yz_plane,  ///< sqrt(y² + z²) of X_ws⁻¹ X_wt: in the push plane of the current sensor frame
+  euclidean,        ///< ‖X_ws⁻¹ X_wt translation‖: full 3-D distance tip centre → target
+};
+
+template <class Scalar>
+class PushingController {
+ public:
+  using Group = SE3<Scalar>;
+  using Servo = TactileServoController<Group>;
+  using Tangent = typename Group::Tangent;  // [v; ω]
+  using Alignment = SisoPid<Scalar>;
+
+  struct Options {
+    typename Servo::Options servo{};          ///< PID 1 (MIMO), reference pose, feedforward
+    typename Alignment::Options alignment{};  ///< PID 2 (SISO): bearing error (rad) → u_y
+    Scalar reference_bearing = Scalar(0);     ///< θ_s'r (rad); paper: 0
+    Scalar alignment_cutoff = Scalar(120);    ///< ρ*: alignment zeroed when r < ρ* (paper 120 mm)
+    Scalar termination_radius = Scalar(20);   ///< stop when d < radius (paper: tip radius 20 mm)
+    TerminationDistance termination_distance = TerminationDistance::sensor_yz_plane;
+    Group target = Group::identity();         ///< X_wt: target pose in the work frame
+  };
+
+  PushingController() = default;
+  explicit PushingController(const Options& options) { config_status_ = configure(options); }
+
+  static Status validate(const Options& o) noexcept {
+    if (Servo::validate(o.servo) != Status::ok) return Status::invalid_argument;
+    if (Alignment::validate(o.alignment) != Status::ok) return Status::invalid_argument;
+    if (!std::isfinite(o.reference_bearing) || !o.target.allFinite()) return Status::invalid_argument;
+    if (std::isnan(o.alignment_cutoff) || o.alignment_cutoff < Scalar(0)) return Status::invalid_argument;
+    if (std::isnan(o.termination_radius) || o.termination_radius < Scalar(0))
+      return Status::invalid_argument;
+    return Status::ok;
+  }
+
+  /// Replaces the options (controller states kept; termination latch kept).
+  Status configure(const Options& options) noexcept {
+    const Status s = validate(options);
+    if (s != Status::ok) return s;
+    if (servo_.configure(options.servo) != Status::ok) return Status::invalid_argument;
+    if (alignment_.configure(options.alignment) != Status::ok) return Status::invalid_argument;
+    options_ = options;
+    config_status_ = Status::ok;
+    return Status::ok;
+  }
+
+  /// New target X_wt; clears the termination latch.
+  Status setTarget(const Group& target_in_work) noexcept {
+    if (!target_in_work.allFinite()) return Status::non_finite_input;
+    options_.target = target_in_work;
+    terminated_ = false;
+    return Status::ok;
+  }
+
+  /// New reference sensor pose X_fs' of the servoing loop (e.g. the tall-object offset).
+  Status setReference(const Group& reference_sensor_in_feature) noexcept {
+    const Status s = servo_.setReference(reference_sensor_in_feature);
+    if (s == Status::ok) options_.servo.reference = reference_sensor_in_feature;
+    return s;
+  }
+
+  /// One control cycle: `feature_in_sensor` X_sf (filtered), `sensor_in_work` X_ws, `dt` > 0,
+  /// `u` receives the sensor body twist in {s}.  After termination: u = 0, Status::ok.
+  /// On any non-ok Status nothing changes.
+  Status step(const Group& feature_in_sensor, const Group& sensor_in_work, Scalar dt,
+              Tangent& u) noexcept {
+    if (config_status_ != Status::ok) return config_status_;
+    if (!(dt > Scalar(0)) || !std::isfinite(dt)) return Status::invalid_time_step;
+    if (!feature_in_sensor.allFinite() || !sensor_in_work.allFinite()) return Status::non_finite_input;
+
+    // Termination check: tip centre (sensor origin) to target origin.
+    const Group X_sw = sensor_in_work.inverse();
+    const Group X_st = X_sw * options_.target;
+    const auto p_st = X_st.translation();
+    const Scalar d = options_.termination_distance == TerminationDistance::euclidean
+                         ? Scalar(p_st.norm())
+                         : Scalar(std::hypot(p_st[1], p_st[2]));
+    if (terminated_ || d < options_.termination_radius) {
+      terminated_ = true;
+      termination_distance_ = d;
+      u.setZero();
+      alignment_active_ = false;
+      alignment_velocity_.setZero();
+      return Status::ok;
+    }
+
+    // Tactile servoing (PID 1); copies restore the state if a later stage fails.
+    const Servo servo_backup = servo_;
+    Tangent u_servo = Tangent::Zero();
+    Status s = servo_.step(feature_in_sensor, dt, u_servo);
+    if (s != Status::ok) return s;
+
+    // Target in the reference sensor frame, eqn:transformed_target_pose.
+    const Group& X_ssr = servo_.poseError();
+    const Group X_srt = X_ssr.inverse() * X_st;
+    const auto p = X_srt.translation();
+    const Scalar y = p[1];
+    const Scalar z = p[2];
+    const Scalar theta = std::atan2(y, z);   // eqn:target_bearing_distance
+    const Scalar r = std::hypot(y, z);
+
+    Tangent u_align_ref = Tangent::Zero();
+    bool active = false;
+    if (r >= options_.alignment_cutoff) {
+      const Scalar e_theta = wrapAngle(options_.reference_bearing - theta);
+      Scalar uy = Scalar(0);
+      s = alignment_.update(e_theta, Scalar(0), dt, uy);
+      if (s != Status::ok) {
+        servo_ = servo_backup;
+        return s;
+      }
+      u_align_ref[1] = uy;
+      active = true;
+    }
+    const Tangent u_align = servo_.referenceToSensorAdjoint() * u_align_ref;
+    const Tangent out = u_servo + u_align;
+    if (!out.allFinite()) {
+      servo_ = servo_backup;
+      return Status::numerical_failure;
+    }
+    target_in_reference_ = X_srt;
+    bearing_ = theta;
+    distance_ = r;
+    termination_distance_ = d;
+    alignment_active_ = active;
+    alignment_velocity_ = u_align;
+    servo_velocity_ = u_servo;
+    u = out;
+    return Status::ok;
+  }
+
+  /// Clears both PIDs, the exposed quantities and the termination latch (options kept).
+  void reset() noexcept {
+    servo_.reset();
+    alignment_.reset();
+    terminated_ = false;
+    alignment_active_ = false;
+    bearing_ = distance_ = Scalar(0);
+    termination_distance_ = std::numeric_limits<Scalar>::infinity();
+    target_in_reference_ = Group::identity();
+    alignment_velocity_.setZero();
+    servo_velocity_.setZero();
+  }
+
+  /// Wraps an angle to (−π, π].
+  static Scalar wrapAngle(Scalar a) noexcept {
+    const Scalar pi = Scalar(3.14159265358979323846264338327950288L);
+    a = std::remainder(a, Scalar(2) * pi);
+    return a <= -pi ? a + Scalar(2) * pi : a;
+  }
+
+  bool terminated() const noexcept { return terminated_; }
+  /// θ_s' (rad) of the last active step.
+  Scalar bearing() const noexcept { return bearing_; }
+  /// r_s' of the last active step (compared with ρ*).
+  Scalar distance() const noexcept { return distance_; }
+  /// d of the last step (compared with termination_radius; +inf before the first step).
+  Scalar terminationDistance() const noexcept { return termination_distance_; }
+  /// Whether the alignment controller acted on the last step (r ≥ ρ*).
+  bool alignmentActive() const noexcept { return alignment_active_; }
+  /// Alignment contribution Ad(X_ss') [0, u_y, 0, 0, 0, 0]ᵀ in {s} of the last step.
+  const Tangent& alignmentVelocity() const noexcept { return alignment_velocity_; }
+  /// Servoing contribution (PID 1 + feedforward) in {s} of the last step.
+  const Tangent& servoVelocity() const noexcept { return servo_velocity_; }
+  /// X_s't of the last active step.
+  const Group& targetInReference() const noexcept { return target_in_reference_; }
+  const Servo& servo() const noexcept { return servo_; }
+  const Alignment& alignment() const noexcept { return alignment_; }
+  const Options& options() const noexcept { return options_; }
+  Status configurationStatus() const noexcept { return config_status_; }
+
+ private:
+  Options options_{};
+  Status config_status_ = Status::ok;
+  Servo servo_{};
+  Alignment alignment_{};
+  bool terminated_ = false;
+  bool alignment_active_ = false;
+  Scalar bearing_ = Scalar(0);
+  Scalar distance_ = Scalar(0);
+  Scalar termination_distance_ = std::numeric_limits<Scalar>::infinity();
+  Group target_in_reference_ = Group::identity();
+  Tangent alignment_velocity_ = Tangent::Zero();
+  Tangent servo_velocity_ = Tangent::Zero();
+};
+
+}  // namespace lieservo

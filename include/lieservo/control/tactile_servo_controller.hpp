@@ -1,0 +1,144 @@
+// lieservo/control/tactile_servo_controller.hpp — the tactile servoing controller
+// (paper: sec:servoing_controller, Figure fig:pushing_controller (a)).
+//
+// Frames (paper notation): {s} current sensor frame (origin at the centre of the hemispherical
+// sensor tip, z out of the tip), {s'} reference sensor frame, {f} surface feature frame
+// (z normal to and into the surface).  Each control cycle:
+//
+//   E = X_ss' = X_sf X_s'f⁻¹ = X_sf X_fs'          eqn:se3_tactile_servo_error
+//   e = log(E)^∨                                    eqn:local_tangent_space_error
+//   v = Ad(X_ss') u_s'2                             feedforward twist mapped into {s}
+//   u = v + Kp e + Ki ∫e dt + Kd dē/dt              eqn:ff_fb_pid_control (MimoPid)
+//
+// X_sf is the (filtered) feature pose in the current sensor frame; X_fs' = X_ref is the
+// reference sensor pose in the feature frame (the tables' "Feedback ref pose"); u_s'2 is the
+// feedforward twist expressed in the reference sensor frame.  The output u is a body twist
+// of the sensor, expressed in the current sensor frame {s}: a kinematic robot follows it as
+// X_ws(t+dt) = X_ws(t) exp(dt u^) (right multiplication).
+//
+// Generic over the group G (SE3, SE2, SO3, SO2): anything with G::DoF, Tangent, Jacobian,
+// operator*, inverse(), log(), Ad(), allFinite() and identity().
+#pragma once
+
+#include <cmath>
+
+#include <Eigen/Core>
+
+#include <lieservo/control/pid.hpp>
+#include <lieservo/status.hpp>
+
+namespace lieservo {
+
+template <class G>
+class TactileServoController {
+ public:
+  using Group = G;
+  using Scalar = typename G::Scalar;
+  static constexpr int DoF = G::DoF;
+  using Tangent = typename G::Tangent;
+  using Jacobian = typename G::Jacobian;
+  using Pid = MimoPid<Scalar, DoF>;
+
+  struct Options {
+    typename Pid::Options pid{};       ///< MIMO PID on e (radians on rotational channels)
+    G reference = G::identity();       ///< X_ref = X_fs': reference sensor pose in {f}
+    Tangent feedforward = Tangent::Zero();  ///< u_s'2: feedforward twist in {s'}
+  };
+
+  TactileServoController() = default;
+
+  /// Configures with `options`; invalid options make step() return Status::invalid_argument.
+  explicit TactileServoController(const Options& options) { config_status_ = configure(options); }
+
+  static Status validate(const Options& o) noexcept {
+    if (!o.reference.allFinite() || !o.feedforward.allFinite()) return Status::invalid_argument;
+    return Pid::validate(o.pid);
+  }
+
+  /// Replaces the options; the PID state is kept (see MimoPid::configure).
+  Status configure(const Options& options) noexcept {
+    const Status s = validate(options);
+    if (s != Status::ok) return s;
+    const Status p = pid_.configure(options.pid);
+    if (p != Status::ok) return p;
+    options_ = options;
+    config_status_ = Status::ok;
+    return Status::ok;
+  }
+
+  /// New reference sensor pose X_fs' (e.g. the paper's ±0.5 mm tall-object offsets).
+  Status setReference(const G& reference_sensor_pose_in_feature) noexcept {
+    if (!reference_sensor_pose_in_feature.allFinite()) return Status::non_finite_input;
+    options_.reference = reference_sensor_pose_in_feature;
+    return Status::ok;
+  }
+
+  /// New feedforward twist u_s'2 (reference sensor frame), e.g. a surface-following heading.
+  Status setFeedforward(const Tangent& feedforward_in_reference) noexcept {
+    if (!feedforward_in_reference.allFinite()) return Status::non_finite_input;
+    options_.feedforward = feedforward_in_reference;
+    return Status::ok;
+  }
+
+  /// E = X_sf X_s'f⁻¹ = X_sf X_fs' (eqn:se3_tactile_servo_error): the reference sensor pose
+  /// in the current sensor frame, X_ss'.
+  static G servoError(const G& feature_in_sensor, const G& reference_sensor_in_feature) {
+    return feature_in_sensor * reference_sensor_in_feature;
+  }
+
+  /// One control cycle.  `feature_in_sensor` = X_sf (filtered), `dt` > 0 the time since the
+  /// last cycle, `u` receives the sensor body twist in {s}.  On any non-ok Status nothing
+  /// changes (u, error(), PID state).
+  Status step(const G& feature_in_sensor, Scalar dt, Tangent& u) noexcept {
+    if (config_status_ != Status::ok) return config_status_;
+    if (!(dt > Scalar(0)) || !std::isfinite(dt)) return Status::invalid_time_step;
+    if (!feature_in_sensor.allFinite()) return Status::non_finite_input;
+
+    const G E = servoError(feature_in_sensor, options_.reference);   // X_ss'
+    const Tangent e = E.log();                                       // eqn:local_tangent_space_error
+    const Jacobian ad = E.Ad();
+    const Tangent v = ad * options_.feedforward;                      // Ad(X_ss') u_s'2
+    if (!e.allFinite() || !v.allFinite()) return Status::numerical_failure;
+    Tangent out = Tangent::Zero();
+    const Status s = pid_.update(e, v, dt, out);
+    if (s != Status::ok) return s;
+    error_pose_ = E;
+    error_ = e;
+    adjoint_ = ad;
+    feedforward_sensor_ = v;
+    u = out;
+    return Status::ok;
+  }
+
+  /// Clears the PID state and the exposed error (options kept).
+  void reset() noexcept {
+    pid_.reset();
+    error_pose_ = G::identity();
+    error_ = Tangent::Zero();
+    adjoint_ = Jacobian::Identity();
+    feedforward_sensor_ = Tangent::Zero();
+  }
+
+  /// E = X_ss' of the last successful step (identity before the first).
+  const G& poseError() const noexcept { return error_pose_; }
+  /// e = log(E)^∨ of the last successful step.
+  const Tangent& tangentError() const noexcept { return error_; }
+  /// Ad(X_ss') of the last successful step: maps twists in {s'} to {s}.
+  const Jacobian& referenceToSensorAdjoint() const noexcept { return adjoint_; }
+  /// v = Ad(X_ss') u_s'2 of the last successful step (feedforward in {s}).
+  const Tangent& feedforwardInSensorFrame() const noexcept { return feedforward_sensor_; }
+  const Pid& pid() const noexcept { return pid_; }
+  const Options& options() const noexcept { return options_; }
+  Status configurationStatus() const noexcept { return config_status_; }
+
+ private:
+  Options options_{};
+  Status config_status_ = Status::ok;
+  Pid pid_{};
+  G error_pose_ = G::identity();
+  Tangent error_ = Tangent::Zero();
+  Jacobian adjoint_ = Jacobian::Identity();
+  Tangent feedforward_sensor_ = Tangent::Zero();
+};
+
+}  // namespace lieservo

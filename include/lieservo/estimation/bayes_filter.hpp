@@ -1,0 +1,246 @@
+// lieservo/estimation/bayes_filter.hpp — the discriminative Bayesian filter on a Lie group G
+// (Algorithm alg:se3_bayes_filter, Section sec:se3_bayes_filter).
+//
+// Inputs per step k: an observation PDF (X̄_k^obs, Σ_k^obs) — e.g. the GDN estimate converted by
+// fromTangentGaussian (eq:se3_inverse_transform) — and the sensor pose X_k^sens.
+//   Initialisation:  fil_0 = bel_0 = obs_0.
+//   Prediction (eqn:bayes_filter_prediction, eqn:se3_rv_probabilistic_transform_2):
+//       T̄_k = (X_k^sens)⁻¹ X_{k−1}^sens,   X̄_k^bel = T̄_k X̄_{k−1}^fil,
+//       Σ_k^bel = Ad(T̄_k) Σ_{k−1}^fil Ad(T̄_k)ᵀ + Σφ                  (Σφ: eqn:state_dynamics_noise_cov)
+//   Correction (eqn:bayes_filter_correction): (X̄_k^fil, Σ_k^fil) = fuse(obs_k, bel_k)
+//       by alg:se3_data_fusion, the operating point starting at the observation (as the paper).
+//
+// Real-time contract: reset/step/predict/correct are noexcept, allocation-free, return a
+// Status, and leave the filter state (belief, filtered, sensor pose, counters) unchanged unless
+// the Status is ok — with one documented exception: Status::outlier_rejected (gating on) means
+// the observation failed the χ² gate and the state was PREDICTED ONLY (filtered = belief).
+// Diagnostics::last_status is updated on every call.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include <Eigen/Core>
+
+#include "../status.hpp"
+#include "chi_square.hpp"
+#include "concentrated_gaussian.hpp"
+#include "detail/linalg.hpp"
+#include "fusion.hpp"
+#include "jacobian_policy.hpp"
+
+namespace lieservo {
+
+/// The paper's state-dynamics noise (eqn:state_dynamics_noise_cov): σφ = 0.5 "mm/s and deg/s"
+/// per component. Translation components get σ = 0.5 (caller's unit, the paper's mm) and
+/// rotation components σ = 0.5° = 0.5·π/180 rad (this library works in radians), i.e.
+/// Σφ = diag(0.25, …, (0.5 π/180)², …).
+template <class G>
+typename G::Jacobian paperProcessNoise() noexcept {
+  using Scalar = typename G::Scalar;
+  constexpr int R = est_detail::rotationDoF<G>();
+  typename G::Jacobian S = G::Jacobian::Zero();
+  const Scalar st = Scalar(0.5);
+  const Scalar sr = Scalar(0.5 * 3.14159265358979323846 / 180.0);
+  for (int i = 0; i < G::DoF; ++i) S(i, i) = (i < G::DoF - R) ? st * st : sr * sr;
+  return S;
+}
+
+template <class G, class Policy = PaperJacobian>
+class DiscriminativeBayesFilter {
+ public:
+  using Group = G;
+  using Scalar = typename G::Scalar;
+  using Tangent = typename G::Tangent;
+  using Jacobian = typename G::Jacobian;
+  using Gaussian = ConcentratedGaussian<G>;
+  static constexpr int DoF = G::DoF;
+
+  struct Options {
+    /// Σφ of the state dynamics (finite, symmetric, positive SEMI-definite; 0 allowed).
+    Jacobian process_noise = paperProcessNoise<G>();
+    /// Iterations of the correction's data fusion (paper: 5, tolerance 0).
+    FusionOptions<Scalar> fusion{};
+    /// Reject observations whose NIS exceeds the χ²(DoF) quantile at gate_probability.
+    bool gating = false;
+    /// In (0, 1). 0.999 → threshold 22.46 for DoF 6, 16.27 for DoF 3, 10.83 for DoF 1.
+    Scalar gate_probability = Scalar(0.999);
+  };
+
+  struct Diagnostics {
+    Status last_status = Status::not_initialised;  ///< Status of the latest call
+    int iterations = 0;            ///< fusion iterations of the latest correction
+    Scalar step_norm = Scalar(0);  ///< ‖μ‖ of the last fusion update
+    Scalar nis = Scalar(0);        ///< normalised innovation squared of the latest observation
+    bool gated = false;            ///< the latest observation was rejected by the gate
+    Scalar gate_threshold = Scalar(0);  ///< χ²(DoF) quantile at gate_probability
+    Scalar max_rotation_separation = Scalar(0);  ///< rad, obs vs belief (FusionResult)
+    std::uint64_t corrections = 0;  ///< accepted observations (incl. the first)
+    std::uint64_t rejected = 0;     ///< observations rejected by the gate
+  };
+
+  DiscriminativeBayesFilter() noexcept { setOptions(Options()); }
+  /// Invalid options (see validateOptions) leave the filter unusable: every call returns
+  /// invalid_argument until setOptions succeeds.
+  explicit DiscriminativeBayesFilter(const Options& options) noexcept {
+    if (setOptions(options) != Status::ok) options_status_ = Status::invalid_argument;
+  }
+
+  /// ok, or invalid_argument (fusion options out of range, gate_probability ∉ (0,1)),
+  /// non_finite_input / not_spd (process noise).
+  static Status validateOptions(const Options& o) noexcept {
+    if (o.fusion.max_iterations < 1 || !std::isfinite(o.fusion.tolerance) ||
+        o.fusion.tolerance < Scalar(0))
+      return Status::invalid_argument;
+    if (!(o.gate_probability > Scalar(0) && o.gate_probability < Scalar(1)))
+      return Status::invalid_argument;
+    return est_detail::checkPsd(o.process_noise);
+  }
+
+  /// Replaces the options (not real-time: computes the gate threshold). State is kept.
+  Status setOptions(const Options& o) noexcept {
+    const Status s = validateOptions(o);
+    if (s != Status::ok) return s;
+    options_ = o;
+    est_detail::symmetrize(options_.process_noise);
+    diag_.gate_threshold =
+        Scalar(chiSquareQuantile(double(o.gate_probability), double(G::DoF)));
+    options_status_ = Status::ok;
+    return Status::ok;
+  }
+  const Options& options() const noexcept { return options_; }
+
+  /// Initialisation of alg:se3_bayes_filter: fil_0 = bel_0 = obs_0, remembering X_0^sens.
+  Status reset(const Gaussian& first_observation, const G& sensor_pose) noexcept {
+    Status s = options_status_;
+    if (s == Status::ok) s = validate(first_observation);
+    if (s == Status::ok) s = est_detail::checkGroupElement(sensor_pose);
+    if (s != Status::ok) return diag_.last_status = s;
+    belief_ = first_observation;
+    est_detail::symmetrize(belief_.covariance);
+    filtered_ = belief_;
+    sensor_pose_ = sensor_pose;
+    initialised_ = true;
+    diag_.iterations = 0;
+    diag_.step_norm = Scalar(0);
+    diag_.nis = Scalar(0);
+    diag_.gated = false;
+    diag_.max_rotation_separation = Scalar(0);
+    diag_.corrections = 1;
+    diag_.rejected = 0;
+    return diag_.last_status = Status::ok;
+  }
+
+  /// One step of alg:se3_bayes_filter: predict with T̄_k = (X_k^sens)⁻¹ X_{k−1}^sens, then correct
+  /// with the observation. Atomic: on any error nothing changes; on outlier_rejected the state
+  /// is the prediction (and the sensor pose is advanced).
+  Status step(const G& sensor_pose, const Gaussian& observation) noexcept {
+    if (options_status_ != Status::ok) return diag_.last_status = options_status_;
+    if (!initialised_) return diag_.last_status = Status::not_initialised;
+    Status s = est_detail::checkGroupElement(sensor_pose);
+    if (s != Status::ok) return diag_.last_status = s;
+    const G T_bar = sensor_pose.inverse() * sensor_pose_;
+    Gaussian bel;
+    s = predictInto(filtered_, T_bar, bel);
+    if (s != Status::ok) return diag_.last_status = s;
+    Gaussian fil;
+    Diagnostics d = diag_;
+    s = correctInto(bel, observation, fil, d);
+    if (s != Status::ok && s != Status::outlier_rejected) return diag_.last_status = s;
+    belief_ = bel;
+    filtered_ = fil;
+    sensor_pose_ = sensor_pose;
+    diag_ = d;
+    return diag_.last_status = s;
+  }
+
+  /// Prediction only (eqn:bayes_filter_prediction) with an explicit T̄: belief = T̄·filtered
+  /// (+Σφ), and filtered ← belief (no observation yet). The stored sensor pose is unchanged.
+  Status predict(const G& T_bar) noexcept {
+    if (options_status_ != Status::ok) return diag_.last_status = options_status_;
+    if (!initialised_) return diag_.last_status = Status::not_initialised;
+    Gaussian bel;
+    const Status s = predictInto(filtered_, T_bar, bel);
+    if (s != Status::ok) return diag_.last_status = s;
+    belief_ = bel;
+    filtered_ = bel;
+    return diag_.last_status = Status::ok;
+  }
+
+  /// Correction only (eqn:bayes_filter_correction): fuses the observation with the current
+  /// state (the belief after predict()). outlier_rejected leaves the state as it was.
+  Status correct(const Gaussian& observation) noexcept {
+    if (options_status_ != Status::ok) return diag_.last_status = options_status_;
+    if (!initialised_) return diag_.last_status = Status::not_initialised;
+    Gaussian fil;
+    Diagnostics d = diag_;
+    const Status s = correctInto(filtered_, observation, fil, d);
+    if (s != Status::ok && s != Status::outlier_rejected) return diag_.last_status = s;
+    filtered_ = fil;
+    diag_ = d;
+    return diag_.last_status = s;
+  }
+
+  /// (X̄_k^bel, Σ_k^bel): the prediction of the latest step.
+  const Gaussian& belief() const noexcept { return belief_; }
+  /// (X̄_k^fil, Σ_k^fil): the filtered state.
+  const Gaussian& filtered() const noexcept { return filtered_; }
+  /// X_k^sens of the latest accepted step (or reset).
+  const G& sensorPose() const noexcept { return sensor_pose_; }
+  const Diagnostics& diagnostics() const noexcept { return diag_; }
+  bool initialised() const noexcept { return initialised_; }
+  /// Back to the uninitialised state (options kept).
+  void clear() noexcept {
+    initialised_ = false;
+    belief_ = Gaussian();
+    filtered_ = Gaussian();
+    sensor_pose_ = G();
+    const Scalar thr = diag_.gate_threshold;
+    diag_ = Diagnostics();
+    diag_.gate_threshold = thr;
+  }
+
+ private:
+  Status predictInto(const Gaussian& fil, const G& T_bar, Gaussian& bel) const noexcept {
+    return transform(fil, T_bar, options_.process_noise, bel);
+  }
+
+  Status correctInto(const Gaussian& bel, const Gaussian& obs, Gaussian& fil,
+                     Diagnostics& d) const noexcept {
+    Status s = validate(obs);
+    if (s != Status::ok) return s;
+    Scalar nis(0);
+    s = normalizedInnovationSquared(obs, bel, nis);
+    if (s != Status::ok) return s;
+    if (options_.gating && !(nis <= d.gate_threshold)) {
+      fil = bel;
+      d.nis = nis;
+      d.gated = true;
+      d.iterations = 0;
+      d.step_norm = Scalar(0);
+      ++d.rejected;
+      return Status::outlier_rejected;
+    }
+    FusionResult<G> r;
+    s = fuse<Policy>(obs, bel, options_.fusion, r);  // operating point starts at the observation
+    if (s != Status::ok) return s;
+    fil = r.fused;
+    d.nis = nis;
+    d.gated = false;
+    d.iterations = r.iterations;
+    d.step_norm = r.step_norm;
+    d.max_rotation_separation = r.max_rotation_separation;
+    ++d.corrections;
+    return Status::ok;
+  }
+
+  Options options_{};
+  Status options_status_ = Status::ok;
+  Gaussian belief_{};
+  Gaussian filtered_{};
+  G sensor_pose_{};
+  bool initialised_ = false;
+  Diagnostics diag_{};
+};
+
+}  // namespace lieservo

@@ -1,0 +1,218 @@
+// lieservo/estimation/concentrated_gaussian.hpp — Gaussian random variables on a matrix Lie
+// group G ("concentrated Gaussians"), Appendix B of the paper (sec:se3_probabilistic_transform).
+//
+//     X = exp(ε^) X̄,   ε ~ N(0, Σ)                                 (eqn:se3_random_variable_2)
+//
+// X̄ is the deterministic mean (`mean`), Σ the covariance of the LEFT perturbation ε
+// (`covariance`, DoF×DoF, tangent ordering [ρ; φ], translation first). The induced density on
+// G is p(X) = β(ε) exp(−½ εᵀ Σ⁻¹ ε), ε = ln(X X̄⁻¹)^∨, β(ε) = η/|det J(ε)| (eqn:se3_pdf).
+//
+// Functions returning Status are noexcept and allocation-free, and write their outputs only
+// when the Status is ok. The value-returning operations (transform, inverse, compose) are
+// unchecked fast paths for inputs the caller has already validated.
+#pragma once
+
+#include <random>
+#include <type_traits>
+
+#include <Eigen/Core>
+
+#include "../status.hpp"
+#include "detail/linalg.hpp"
+#include "jacobian_policy.hpp"
+
+namespace lieservo {
+
+/// A concentrated Gaussian on G: X = exp(ε^) mean, ε ~ N(0, covariance).
+template <class G>
+struct ConcentratedGaussian {
+  using Group = G;
+  using Scalar = typename G::Scalar;
+  using Tangent = typename G::Tangent;
+  using Jacobian = typename G::Jacobian;
+  static constexpr int DoF = G::DoF;
+
+  G mean;               ///< deterministic mean X̄
+  Jacobian covariance;  ///< covariance Σ of the left perturbation ε
+
+  /// Identity mean, identity covariance.
+  ConcentratedGaussian() noexcept : mean(), covariance(Jacobian::Identity()) {}
+  ConcentratedGaussian(const G& m, const Jacobian& c) noexcept : mean(m), covariance(c) {}
+
+  /// ok when the mean is a valid group element (finite, orthonormal rotation, det +1) and the
+  /// covariance is finite, symmetric (relative tolerance sqrt(eps)) and positive-definite.
+  Status validate() const noexcept;
+};
+
+/// The same Gaussian in another scalar type (e.g. double → float): mean.cast, covariance.cast.
+template <class NewScalar, class G>
+auto castGaussian(const ConcentratedGaussian<G>& x) {
+  using G2 = std::decay_t<decltype(x.mean.template cast<NewScalar>())>;
+  return ConcentratedGaussian<G2>(x.mean.template cast<NewScalar>(),
+                                  x.covariance.template cast<NewScalar>());
+}
+
+/// Checks a covariance matrix: ok, non_finite_input or not_spd (see ConcentratedGaussian::validate).
+template <class Mat>
+Status checkCovariance(const Mat& S) noexcept {
+  return est_detail::checkSpd(S);
+}
+
+template <class G>
+Status validate(const ConcentratedGaussian<G>& x) noexcept {
+  const Status s = est_detail::checkGroupElement(x.mean);
+  if (s != Status::ok) return s;
+  return est_detail::checkSpd(x.covariance);
+}
+
+template <class G>
+Status ConcentratedGaussian<G>::validate() const noexcept {
+  return lieservo::validate(*this);
+}
+
+/// Probabilistic transformation X' = T X with T = exp(φ^) T̄, φ ~ N(0, Σφ) independent of X
+/// (eqn:se3_rv_probabilistic_transform_2, first order in the covariances):
+///     X̄' = T̄ X̄,    Σ' = Ad(T̄) Σ Ad(T̄)ᵀ + Σφ.
+/// Unchecked; the result covariance is symmetrised.
+template <class G>
+ConcentratedGaussian<G> transform(const ConcentratedGaussian<G>& x, const G& T_bar,
+                                  const typename G::Jacobian& Sigma_phi) noexcept {
+  const typename G::Jacobian Ad = T_bar.Ad();
+  ConcentratedGaussian<G> out;
+  out.mean = T_bar * x.mean;
+  out.covariance = Ad * x.covariance * Ad.transpose() + Sigma_phi;
+  est_detail::symmetrize(out.covariance);
+  return out;
+}
+
+/// Checked version of transform (eqn:se3_rv_probabilistic_transform_2): x must validate, T̄
+/// must be a valid group element, Σφ finite symmetric positive semi-definite (0 allowed);
+/// the result must be finite and SPD (else numerical_failure). `out` may alias `x`.
+template <class G>
+Status transform(const ConcentratedGaussian<G>& x, const G& T_bar,
+                 const typename G::Jacobian& Sigma_phi, ConcentratedGaussian<G>& out) noexcept {
+  Status s = validate(x);
+  if (s != Status::ok) return s;
+  s = est_detail::checkGroupElement(T_bar);
+  if (s != Status::ok) return s;
+  s = est_detail::checkPsd(Sigma_phi);
+  if (s != Status::ok) return s;
+  ConcentratedGaussian<G> r = transform(x, T_bar, Sigma_phi);
+  r.mean.normalize();
+  if (!r.mean.allFinite() || !r.covariance.allFinite()) return Status::numerical_failure;
+  if (est_detail::checkSpd(r.covariance) != Status::ok) return Status::numerical_failure;
+  out = r;
+  return Status::ok;
+}
+
+/// Inverse of a concentrated Gaussian: X⁻¹ = X̄⁻¹ exp(−ε^) = exp((−Ad(X̄⁻¹) ε)^) X̄⁻¹, so
+///     mean X̄⁻¹,   covariance Ad(X̄⁻¹) Σ Ad(X̄⁻¹)ᵀ   (exact: a linear map of ε). Unchecked.
+template <class G>
+ConcentratedGaussian<G> inverse(const ConcentratedGaussian<G>& x) noexcept {
+  ConcentratedGaussian<G> out;
+  out.mean = x.mean.inverse();
+  const typename G::Jacobian Ad = out.mean.Ad();
+  out.covariance = Ad * x.covariance * Ad.transpose();
+  est_detail::symmetrize(out.covariance);
+  return out;
+}
+
+/// Compounding of two INDEPENDENT uncertain elements, X = A B:
+///     A B = exp(ε_a^) Ā exp(ε_b^) B̄ = exp(ε_a^) exp((Ad(Ā) ε_b)^) Ā B̄
+///         ≈ exp((ε_a + Ad(Ā) ε_b)^) Ā B̄            (first order, as eqn:se3_rv_probabilistic_transform_2)
+/// so mean Ā B̄ and covariance Σ_a + Ad(Ā) Σ_b Ad(Ā)ᵀ. Unchecked.
+template <class G>
+ConcentratedGaussian<G> compose(const ConcentratedGaussian<G>& a,
+                                const ConcentratedGaussian<G>& b) noexcept {
+  const typename G::Jacobian Ad = a.mean.Ad();
+  ConcentratedGaussian<G> out;
+  out.mean = a.mean * b.mean;
+  out.covariance = a.covariance + Ad * b.covariance * Ad.transpose();
+  est_detail::symmetrize(out.covariance);
+  return out;
+}
+
+/// From a Gaussian in exponential coordinates ξ ~ N(μ, Σξ) to a concentrated Gaussian
+/// (eq:se3_inverse_transform, inverting eqn:glob_tangent_space_pdf):
+///     X̄ = exp(μ^),   Σ = J(μ) Σξ J(μ)ᵀ,
+/// J evaluated by the policy (closed form by default; SeriesJacobian<2> for the paper's
+/// truncation). Status: non_finite_input, not_spd (Σξ), numerical_failure (J(μ) singular,
+/// i.e. a rotation angle at 2π, or a non-finite result).
+template <class Policy = ClosedFormJacobian, class G>
+Status fromTangentCovariance(const typename G::Tangent& mu, const typename G::Jacobian& Sigma_xi,
+                             ConcentratedGaussian<G>& out) noexcept {
+  if (!mu.allFinite() || !Sigma_xi.allFinite()) return Status::non_finite_input;
+  Status s = est_detail::checkSpd(Sigma_xi);
+  if (s != Status::ok) return s;
+  ConcentratedGaussian<G> r;
+  r.mean = G::exp(mu);
+  const typename G::Jacobian J = Policy::template forward<G>(mu);
+  r.covariance = J * Sigma_xi * J.transpose();
+  est_detail::symmetrize(r.covariance);
+  if (!r.mean.allFinite() || !r.covariance.allFinite()) return Status::numerical_failure;
+  if (est_detail::checkSpd(r.covariance) != Status::ok) return Status::numerical_failure;
+  out = r;
+  return Status::ok;
+}
+
+/// eq:se3_inverse_transform with a diagonal tangent covariance diag(σ²): the form of the
+/// GDN output (μ, σ), σ per component (all > 0).
+template <class Policy = ClosedFormJacobian, class G>
+Status fromTangentGaussian(const typename G::Tangent& mu, const typename G::Tangent& sigma,
+                           ConcentratedGaussian<G>& out) noexcept {
+  if (!mu.allFinite() || !sigma.allFinite()) return Status::non_finite_input;
+  if (!(sigma.array() > typename G::Scalar(0)).all()) return Status::not_spd;
+  const typename G::Jacobian S = sigma.array().square().matrix().asDiagonal();
+  return fromTangentCovariance<Policy>(mu, S, out);
+}
+
+/// The Gaussian in exponential coordinates of a concentrated Gaussian
+/// (eqn:glob_tangent_space_approx, eqn:glob_tangent_space_pdf):
+///     μ = ln(X̄)^∨,   Σξ = J(μ)⁻¹ Σ J(μ)⁻ᵀ.
+/// Meaningful while the rotation angle of μ is below π (ln is then unique).
+template <class Policy = ClosedFormJacobian, class G>
+Status toTangentGaussian(const ConcentratedGaussian<G>& x, typename G::Tangent& mu,
+                         typename G::Jacobian& Sigma_xi) noexcept {
+  Status s = validate(x);
+  if (s != Status::ok) return s;
+  typename G::Jacobian Jinv;
+  const typename G::Tangent m = Policy::logAndInverse(x.mean, Jinv);
+  typename G::Jacobian S = Jinv * x.covariance * Jinv.transpose();
+  est_detail::symmetrize(S);
+  if (!m.allFinite() || !S.allFinite()) return Status::numerical_failure;
+  mu = m;
+  Sigma_xi = S;
+  return Status::ok;
+}
+
+/// Squared Mahalanobis distance of X from x in the left perturbation: ε = ln(X X̄⁻¹)^∨,
+/// d² = εᵀ Σ⁻¹ ε (the exponent of eqn:se3_pdf_approx; NEES when X is the true state).
+template <class G>
+Status mahalanobisSquared(const ConcentratedGaussian<G>& x, const G& X,
+                          typename G::Scalar& d2) noexcept {
+  if (!x.mean.allFinite() || !X.allFinite()) return Status::non_finite_input;
+  typename G::Jacobian L;
+  const Status s = est_detail::choleskyChecked(x.covariance, L);
+  if (s != Status::ok) return s;
+  typename G::Tangent w = (X * x.mean.inverse()).log();  // ε
+  est_detail::lowerSolveInPlace(L, w);                     // L⁻¹ ε
+  const typename G::Scalar r = w.squaredNorm();
+  if (!std::isfinite(r)) return Status::numerical_failure;
+  d2 = r;
+  return Status::ok;
+}
+
+/// Draws X = exp(ε^) X̄ with ε ~ N(0, Σ) (Σ must be SPD; uses its Cholesky factor).
+/// Not real-time (uses std::normal_distribution); for simulations and tests.
+template <class G, class Rng>
+G sample(const ConcentratedGaussian<G>& x, Rng& rng) {
+  using Scalar = typename G::Scalar;
+  typename G::Jacobian L;
+  if (est_detail::choleskyChecked(x.covariance, L) != Status::ok) return x.mean;
+  std::normal_distribution<double> n01(0.0, 1.0);
+  typename G::Tangent z;
+  for (int i = 0; i < G::DoF; ++i) z[i] = Scalar(n01(rng));
+  return G::exp(L * z) * x.mean;
+}
+
+}  // namespace lieservo

@@ -1,0 +1,164 @@
+// lieservo/estimation/detail/linalg.hpp — small fixed-size linear-algebra helpers of the
+// estimators: covariance checks, Cholesky factors, group-element validation.
+// Everything here is noexcept and allocation-free (fixed-size Eigen, no dynamic storage).
+#pragma once
+
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include "../../status.hpp"
+
+namespace lieservo {
+namespace est_detail {
+
+/// Number of rotational degrees of freedom of G (1 for SO(2)/SE(2), 3 for SO(3)/SE(3)): by the
+/// library's convention ξ = [ρ; φ], the rotation is the tail of the tangent vector.
+template <class G>
+constexpr int rotationDoF() noexcept {
+  return G::Dim * (G::Dim - 1) / 2;
+}
+
+/// Rotation angle |φ| of a tangent vector ξ = [ρ; φ].
+template <class G>
+typename G::Scalar rotationAngle(const typename G::Tangent& xi) noexcept {
+  return xi.template tail<rotationDoF<G>()>().norm();
+}
+
+/// Relative tolerance used for the symmetry check of an input covariance:
+/// |S_ij − S_ji| ≤ tol · sqrt(S_ii) sqrt(S_jj), tol = sqrt(eps) (1.5e-8 double, 3.5e-4 float).
+template <class Scalar>
+Scalar symmetryTolerance() noexcept {
+  return std::sqrt(std::numeric_limits<Scalar>::epsilon());
+}
+
+/// Smallest accepted ratio L_ii² / S_ii of a Cholesky pivot to its diagonal entry (the
+/// conditional variance over the marginal one, 1 − R² for a pair): below it the matrix is
+/// numerically singular. 64 eps (1.4e-14 double, 7.6e-6 float).
+template <class Scalar>
+Scalar pivotTolerance() noexcept {
+  return Scalar(64) * std::numeric_limits<Scalar>::epsilon();
+}
+
+/// Checks that S is finite and symmetric positive-definite, and returns the lower Cholesky
+/// factor L of its symmetric part (S_sym = L Lᵀ). Status: ok, non_finite_input or not_spd.
+/// L is written only when the Status is ok.
+template <class Mat>
+Status choleskyChecked(const Mat& S, Mat& L) noexcept {
+  using Scalar = typename Mat::Scalar;
+  constexpr int n = Mat::RowsAtCompileTime;
+  static_assert(n > 0 && n == Mat::ColsAtCompileTime, "fixed-size square matrix expected");
+  if (!S.allFinite()) return Status::non_finite_input;
+  Scalar sd[n];
+  for (int i = 0; i < n; ++i) {
+    if (!(S(i, i) > Scalar(0))) return Status::not_spd;
+    sd[i] = std::sqrt(S(i, i));
+  }
+  const Scalar tol = symmetryTolerance<Scalar>();
+  for (int j = 0; j < n; ++j)
+    for (int i = j + 1; i < n; ++i)
+      if (!(std::abs(S(i, j) - S(j, i)) <= tol * sd[i] * sd[j])) return Status::not_spd;
+  // Equilibrate: D S D with D = diag(1/sqrt(S_ii)) has a unit diagonal, so the pivot test
+  // below is scale-free. Cholesky commutes with diagonal scaling: L = D⁻¹ chol(D S D).
+  Mat E;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const Scalar sym = (i == j) ? S(i, i) : Scalar(0.5) * (S(i, j) + S(j, i));
+      E(i, j) = (i == j) ? Scalar(1) : (sym / sd[i]) / sd[j];
+    }
+  Eigen::LLT<Mat> llt(E);
+  if (llt.info() != Eigen::Success) return Status::not_spd;
+  Mat Le = llt.matrixL();
+  const Scalar ptol = pivotTolerance<Scalar>();
+  for (int i = 0; i < n; ++i)
+    if (!(Le(i, i) * Le(i, i) >= ptol) || !std::isfinite(Le(i, i))) return Status::not_spd;
+  for (int i = 0; i < n; ++i) Le.row(i) *= sd[i];  // undo the row scaling: L = D⁻¹ Le
+  if (!Le.allFinite()) return Status::numerical_failure;
+  L = Le;
+  return Status::ok;
+}
+
+/// Checks a covariance matrix (finite, symmetric, positive-definite).
+template <class Mat>
+Status checkSpd(const Mat& S) noexcept {
+  Mat L;
+  return choleskyChecked(S, L);
+}
+
+/// Checks a matrix that may be positive semi-definite (e.g. process noise, which may be 0):
+/// finite, symmetric (absolute+relative tolerance) and no eigenvalue below −sqrt(eps)·max|S_ii|.
+template <class Mat>
+Status checkPsd(const Mat& S) noexcept {
+  using Scalar = typename Mat::Scalar;
+  constexpr int n = Mat::RowsAtCompileTime;
+  if (!S.allFinite()) return Status::non_finite_input;
+  Scalar dmax = Scalar(0);
+  for (int i = 0; i < n; ++i) {
+    if (S(i, i) < Scalar(0)) return Status::not_spd;
+    dmax = std::max(dmax, S(i, i));
+  }
+  const Scalar tol = symmetryTolerance<Scalar>();
+  for (int j = 0; j < n; ++j)
+    for (int i = j + 1; i < n; ++i) {
+      if (!(std::abs(S(i, j) - S(j, i)) <= tol * std::sqrt(S(i, i)) * std::sqrt(S(j, j))))
+        return Status::not_spd;
+    }
+  if (dmax == Scalar(0)) return S.isZero(Scalar(0)) ? Status::ok : Status::not_spd;
+  // Shift by a small multiple of the largest diagonal entry and test definiteness.
+  Mat shifted = Scalar(0.5) * (S + S.transpose());
+  shifted.diagonal().array() += tol * dmax;
+  Eigen::LLT<Mat> llt(shifted);
+  return llt.info() == Eigen::Success ? Status::ok : Status::not_spd;
+}
+
+/// Forward substitution, in place: B ← L⁻¹ B for a lower-triangular fixed-size L (only the
+/// lower triangle is read). Written out (rather than Eigen's triangularView().solve()) to keep
+/// the code path small, obviously allocation-free and free of spurious GCC warnings.
+template <class MatL, class MatB>
+void lowerSolveInPlace(const MatL& L, MatB& B) noexcept {
+  const int n = static_cast<int>(L.rows());
+  for (int c = 0; c < static_cast<int>(B.cols()); ++c)
+    for (int i = 0; i < n; ++i) {
+      auto v = B(i, c);
+      for (int k = 0; k < i; ++k) v -= L(i, k) * B(k, c);
+      B(i, c) = v / L(i, i);
+    }
+}
+
+/// Back substitution, in place: B ← R⁻¹ B for an upper-triangular fixed-size R (only the upper
+/// triangle is read).
+template <class MatR, class MatB>
+void upperSolveInPlace(const MatR& R, MatB& B) noexcept {
+  const int n = static_cast<int>(R.rows());
+  for (int c = 0; c < static_cast<int>(B.cols()); ++c)
+    for (int i = n - 1; i >= 0; --i) {
+      auto v = B(i, c);
+      for (int k = i + 1; k < n; ++k) v -= R(i, k) * B(k, c);
+      B(i, c) = v / R(i, i);
+    }
+}
+
+/// Symmetrises in place: S ← ½ (S + Sᵀ).
+template <class Mat>
+void symmetrize(Mat& S) noexcept {
+  constexpr int n = Mat::RowsAtCompileTime;
+  for (int j = 0; j < n; ++j)
+    for (int i = j + 1; i < n; ++i) {
+      const auto m = (S(i, j) + S(j, i)) * typename Mat::Scalar(0.5);
+      S(i, j) = m;
+      S(j, i) = m;
+    }
+}
+
+/// Checks a group element: finite, orthonormal rotation with det +1 (through the core's
+/// checked constructor G::fromMatrix).
+template <class G>
+Status checkGroupElement(const G& X) noexcept {
+  G tmp;
+  return G::fromMatrix(X.matrix(), tmp);
+}
+
+}  // namespace est_detail
+}  // namespace lieservo

@@ -1,0 +1,268 @@
+// lieservo/estimation/fusion.hpp — probabilistic data fusion of concentrated Gaussians on a
+// Lie group G: the normalised product p*(X) ∝ Π_i p_i(X) (Appendix C,
+// sec:se3_probabilistic_fusion), computed by the fixed-point iteration of
+// Algorithm alg:se3_data_fusion:
+//
+//     X̄ ← X̄_1                                              (operating point)
+//     repeat:  ξ_i = ln(X̄ X̄_i⁻¹)^∨,  J_i⁻¹ = J(ξ_i)⁻¹            (policy: series of order N or closed form)
+//              Σ   = (Σ_i J_i⁻ᵀ Σ_i⁻¹ J_i⁻¹)⁻¹
+//              μ   = −Σ Σ_i J_i⁻ᵀ Σ_i⁻¹ ξ_i
+//              X̄  ← exp(μ^) X̄                                 (eqn:se3_normalised_prod_update)
+//     return (X̄, Σ)
+//
+// Numerics (docs/estimation.md): square-root information form. Each Σ_i is Cholesky-factorised
+// ONCE per call (Σ_i = L_i L_iᵀ, after an equilibrating diagonal scaling). Per iteration the
+// whitened factor rows A_i = L_i⁻¹ J_i⁻¹ and b_i = L_i⁻¹ ξ_i are obtained by triangular solves,
+// stacked and reduced by Householder reflections to an upper-triangular R with RᵀR = Σ_i A_iᵀA_i
+// (the information matrix, never formed explicitly) and c = Qᵀb, so μ = −R⁻¹c and
+// Σ = R⁻¹R⁻ᵀ. This avoids squaring the condition number (covariance eigenvalues anywhere in
+// [1e-12, 1e12] stay representable), is allocation-free (fixed-size storage for up to
+// kMaxFusionFactors factors) and the result is symmetrised and checked to be SPD.
+#pragma once
+
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Core>
+
+#include "../status.hpp"
+#include "concentrated_gaussian.hpp"
+#include "detail/linalg.hpp"
+#include "jacobian_policy.hpp"
+
+namespace lieservo {
+
+/// Iteration control of fuse().
+template <class Scalar>
+struct FusionOptions {
+  /// Upper bound on the number of operating-point updates (≥ 1). The paper runs exactly 5
+  /// ("real-time mode": tolerance = 0 → always max_iterations updates, predictable timing).
+  int max_iterations = 5;
+  /// If > 0: stop as soon as the step norm ‖μ‖₂ of an update falls below it; if that never
+  /// happens within max_iterations, fuse() returns Status::not_converged. Must be finite, ≥ 0.
+  Scalar tolerance = Scalar(0);
+};
+
+/// The outcome of fuse().
+template <class G>
+struct FusionResult {
+  ConcentratedGaussian<G> fused;  ///< (X̄*, Σ*): the normalised product
+  int iterations = 0;             ///< operating-point updates performed
+  /// ‖μ‖₂ of the last update (tangent units as given: e.g. mm and rad mixed, as in the paper)
+  typename G::Scalar step_norm = typename G::Scalar(0);
+  /// Largest rotation angle |φ| (rad) of ξ_i = ln(X̄_1 X̄_i⁻¹)^∨ at the initial operating point:
+  /// how far apart the factor means are in rotation (the concentrated-Gaussian assumption
+  /// wants this small compared with π).
+  typename G::Scalar max_rotation_separation = typename G::Scalar(0);
+};
+
+/// Most factors one fuse() call accepts (fixed-size scratch storage).
+inline constexpr int kMaxFusionFactors = 16;
+
+/// Two factor means whose relative rotation is within this margin (rad) of π lie on the cut
+/// locus of ln: the geodesic between them is not unique and fuse() returns invalid_argument.
+/// 8 sqrt(eps): 1.2e-7 rad for double, 2.8e-3 rad for float.
+template <class Scalar>
+Scalar cutLocusMargin() noexcept {
+  return Scalar(8) * std::sqrt(std::numeric_limits<Scalar>::epsilon());
+}
+
+namespace est_detail {
+
+/// Householder triangularisation, in place, of the first `nrows` rows of a fixed-size matrix M
+/// (columns 0..tri_cols−1 are reduced; later columns are transformed along, i.e. they become
+/// Qᵀ·column). Column-scaled reflectors avoid overflow/underflow in the norms.
+template <class Mat>
+void householderTriangularize(Mat& M, int nrows, int tri_cols) noexcept {
+  using Scalar = typename Mat::Scalar;
+  constexpr int C = Mat::ColsAtCompileTime;
+  for (int k = 0; k < tri_cols && k < nrows; ++k) {
+    Scalar scale(0);
+    for (int i = k; i < nrows; ++i) scale = std::max(scale, std::abs(M(i, k)));
+    if (!(scale > Scalar(0)) || !std::isfinite(scale)) continue;
+    Scalar sigma2(0);
+    for (int i = k + 1; i < nrows; ++i) {
+      const Scalar v = M(i, k) / scale;
+      sigma2 += v * v;
+    }
+    if (sigma2 == Scalar(0)) continue;  // nothing below the diagonal
+    const Scalar x0 = M(k, k) / scale;
+    Scalar alpha = std::sqrt(x0 * x0 + sigma2);
+    if (x0 > Scalar(0)) alpha = -alpha;  // v0 = x0 − alpha never cancels
+    const Scalar v0 = x0 - alpha;
+    const Scalar vtv = v0 * v0 + sigma2;
+    for (int j = k + 1; j < C; ++j) {
+      Scalar s = v0 * M(k, j);
+      for (int i = k + 1; i < nrows; ++i) s += (M(i, k) / scale) * M(i, j);
+      const Scalar f = Scalar(2) * s / vtv;
+      M(k, j) -= f * v0;
+      for (int i = k + 1; i < nrows; ++i) M(i, j) -= f * (M(i, k) / scale);
+    }
+    M(k, k) = alpha * scale;
+    for (int i = k + 1; i < nrows; ++i) M(i, k) = Scalar(0);
+  }
+}
+
+/// Accumulates whitened factor rows [A_i | b_i] into a square-root information pair [R | c]
+/// (RᵀR = Σ A_iᵀA_i, Rᵀc = Σ A_iᵀb_i), compressing with Householder reflections whenever the
+/// 2·DoF-row stack is full.
+template <class G>
+struct SqrtInformation {
+  static constexpr int D = G::DoF;
+  using Scalar = typename G::Scalar;
+  using Stack = Eigen::Matrix<Scalar, 2 * D, D + 1>;
+  Stack M;
+  int rows = 0;
+
+  void reset() noexcept {
+    M.setZero();
+    rows = 0;
+  }
+  void add(const typename G::Jacobian& A, const typename G::Tangent& b) noexcept {
+    if (rows == 2 * D) compress();
+    M.template block<D, D>(rows, 0) = A;
+    M.template block<D, 1>(rows, D) = b;
+    rows += D;
+  }
+  void compress() noexcept {
+    householderTriangularize(M, rows, D);
+    M.template bottomRows<D>().setZero();
+    rows = D;
+  }
+  /// Upper-triangular R (after compress()).
+  auto R() const noexcept { return M.template topLeftCorner<D, D>(); }
+  /// c = Qᵀ b (after compress()).
+  auto c() const noexcept { return M.template block<D, 1>(0, D); }
+};
+
+}  // namespace est_detail
+
+/// Normalised innovation squared of an observation against a prior (both concentrated
+/// Gaussians), linearised at the prior mean to first order:
+///     ν = ln(X̄_obs X̄_prior⁻¹)^∨ ≈ ε_prior − ε_obs,   S = Σ_prior + Σ_obs,   NIS = νᵀ S⁻¹ ν.
+/// (With X = exp(ε_p^)X̄_prior = exp(ε_o^)X̄_obs: X̄_obs X̄_prior⁻¹ = exp(−ε_o^) exp(ε_p^), and
+/// BCH to first order in the ε gives ν ≈ ε_p − ε_o; the J(ν) corrections are second order.)
+/// Under a consistent model NIS ~ χ²(DoF). `innovation` (optional) receives ν.
+template <class G>
+Status normalizedInnovationSquared(const ConcentratedGaussian<G>& observation,
+                                   const ConcentratedGaussian<G>& prior,
+                                   typename G::Scalar& nis,
+                                   typename G::Tangent* innovation = nullptr) noexcept {
+  if (!observation.mean.allFinite() || !prior.mean.allFinite() ||
+      !observation.covariance.allFinite() || !prior.covariance.allFinite())
+    return Status::non_finite_input;
+  const typename G::Jacobian S = observation.covariance + prior.covariance;
+  typename G::Jacobian L;
+  const Status s = est_detail::choleskyChecked(S, L);
+  if (s != Status::ok) return s;
+  const typename G::Tangent nu = (observation.mean * prior.mean.inverse()).log();
+  typename G::Tangent w = nu;
+  est_detail::lowerSolveInPlace(L, w);
+  const typename G::Scalar r = w.squaredNorm();
+  if (!nu.allFinite() || !std::isfinite(r)) return Status::numerical_failure;
+  nis = r;
+  if (innovation) *innovation = nu;
+  return Status::ok;
+}
+
+/// N-ary fusion (alg:se3_data_fusion generalised to `count` factors, 1 ≤ count ≤
+/// kMaxFusionFactors): the operating point starts at factors[0].mean.
+/// Status: ok; invalid_argument (count or options out of range, or two means on the cut
+/// locus: relative rotation within cutLocusMargin() of π); non_finite_input / not_orthonormal /
+/// not_spd (a factor fails validate()); not_converged (tolerance > 0 not reached);
+/// numerical_failure (a non-finite or non-SPD intermediate/result). `result` is written only
+/// when the Status is ok. noexcept, allocation-free.
+template <class Policy = PaperJacobian, class G>
+Status fuse(const ConcentratedGaussian<G>* factors, int count,
+            const FusionOptions<typename G::Scalar>& options, FusionResult<G>& result) noexcept {
+  using Scalar = typename G::Scalar;
+  using Tangent = typename G::Tangent;
+  using Jacobian = typename G::Jacobian;
+  constexpr int D = G::DoF;
+  if (factors == nullptr || count < 1 || count > kMaxFusionFactors) return Status::invalid_argument;
+  if (options.max_iterations < 1 || !std::isfinite(options.tolerance) ||
+      options.tolerance < Scalar(0))
+    return Status::invalid_argument;
+
+  // Validate each factor and factorise its covariance once (Σ_i = L_i L_iᵀ).
+  Jacobian L[kMaxFusionFactors];
+  G inv_mean[kMaxFusionFactors];
+  for (int i = 0; i < count; ++i) {
+    Status s = est_detail::checkGroupElement(factors[i].mean);
+    if (s != Status::ok) return s;
+    s = est_detail::choleskyChecked(factors[i].covariance, L[i]);
+    if (s != Status::ok) return s;
+    inv_mean[i] = factors[i].mean.inverse();
+  }
+
+  G X = factors[0].mean;  // operating point X̄ ← X̄_1
+  Scalar max_sep(0);
+  for (int i = 1; i < count; ++i) {
+    const Tangent xi = (X * inv_mean[i]).log();
+    if (!xi.allFinite()) return Status::numerical_failure;
+    max_sep = std::max(max_sep, est_detail::rotationAngle<G>(xi));
+  }
+  if (max_sep > Scalar(EIGEN_PI) - cutLocusMargin<Scalar>()) return Status::invalid_argument;
+
+  est_detail::SqrtInformation<G> info;
+  Jacobian R = Jacobian::Identity();
+  Scalar step(0);
+  int it = 0;
+  bool converged = false;
+  while (it < options.max_iterations) {
+    info.reset();
+    for (int i = 0; i < count; ++i) {
+      Jacobian Jinv;
+      const Tangent xi = Policy::logAndInverse(X * inv_mean[i], Jinv);  // ξ_i, J(ξ_i)⁻¹
+      Jacobian A = Jinv;  // → L_i⁻¹ J_i⁻¹ (so A_iᵀA_i = J_i⁻ᵀ Σ_i⁻¹ J_i⁻¹)
+      Tangent b = xi;     // → L_i⁻¹ ξ_i
+      est_detail::lowerSolveInPlace(L[i], A);
+      est_detail::lowerSolveInPlace(L[i], b);
+      info.add(A, b);
+    }
+    info.compress();
+    R = info.R();
+    for (int k = 0; k < D; ++k)
+      if (!(std::abs(R(k, k)) > Scalar(0))) return Status::numerical_failure;
+    // μ = −Σ Σ_i J_i⁻ᵀ Σ_i⁻¹ ξ_i = −(RᵀR)⁻¹ Rᵀc = −R⁻¹ c
+    Tangent mu = -info.c();
+    est_detail::upperSolveInPlace(R, mu);
+    if (!mu.allFinite()) return Status::numerical_failure;
+    X = G::exp(mu) * X;  // eqn:se3_normalised_prod_update
+    ++it;
+    step = mu.norm();
+    if (options.tolerance > Scalar(0) && step < options.tolerance) {
+      converged = true;
+      break;
+    }
+  }
+  if (options.tolerance > Scalar(0) && !converged) return Status::not_converged;
+
+  X.normalize();
+  // Σ* = (RᵀR)⁻¹ = R⁻¹ R⁻ᵀ, from the last linearisation (as the paper's algorithm returns it).
+  Jacobian Rinv = Jacobian::Identity();
+  est_detail::upperSolveInPlace(R, Rinv);
+  Jacobian Sigma = Rinv * Rinv.transpose();
+  est_detail::symmetrize(Sigma);
+  if (!X.allFinite() || !Sigma.allFinite() || !std::isfinite(step))
+    return Status::numerical_failure;
+  if (est_detail::checkSpd(Sigma) != Status::ok) return Status::numerical_failure;
+
+  result.fused.mean = X;
+  result.fused.covariance = Sigma;
+  result.iterations = it;
+  result.step_norm = step;
+  result.max_rotation_separation = max_sep;
+  return Status::ok;
+}
+
+/// Fusion of two factors (alg:se3_data_fusion); the operating point starts at `first.mean`
+/// (in the filter: the observation, as in the paper). See the N-ary overload for the Status.
+template <class Policy = PaperJacobian, class G>
+Status fuse(const ConcentratedGaussian<G>& first, const ConcentratedGaussian<G>& second,
+            const FusionOptions<typename G::Scalar>& options, FusionResult<G>& result) noexcept {
+  const ConcentratedGaussian<G> factors[2] = {first, second};
+  return fuse<Policy>(factors, 2, options, result);
+}
+
+}  // namespace lieservo

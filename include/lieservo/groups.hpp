@@ -1,0 +1,7 @@
+// lieservo/groups.hpp — all Lie groups of the core: SO(2), SE(2), SO(3), SE(3).
+#pragma once
+
+#include "groups/se2.hpp"
+#include "groups/se3.hpp"
+#include "groups/so2.hpp"
+#include "groups/so3.hpp"

@@ -1,0 +1,50 @@
+// lieservo/groups/detail/generic.hpp — operations written once for every group G.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+
+#include <Eigen/Core>
+
+#include "series.hpp"
+
+namespace lieservo {
+namespace detail {
+
+/// Truncated inverse-Jacobian series Σ_{n=0}^{N} (B_n/n!) (ξ⋏)^n (eqn:inv_jacobian_def),
+/// evaluated by Horner's rule in ad(ξ). Converges for |θ| < 2π.
+template <class G, int N>
+inline typename G::Jacobian inverseJacobianSeries(const typename G::Tangent& xi) {
+  static_assert(N >= 0, "series order must be >= 0");
+  using Jacobian = typename G::Jacobian;
+  using Scalar = typename G::Scalar;
+  using Real = RealOf<Scalar>;
+  const Jacobian ad = G::ad(xi);
+  const Jacobian I = Jacobian::Identity();
+  Jacobian r = Scalar(Real(bernoulliOverFactorial(N))) * I;
+  for (int n = N - 1; n >= 0; --n) r = Scalar(Real(bernoulliOverFactorial(n))) * I + ad * r;
+  return r;
+}
+
+/// A uniform double in [0, 1) from any URBG; std::generate_canonical's algorithm is fixed
+/// by the standard, so a seeded engine gives the same samples on every platform.
+template <class Rng>
+inline double uniform01(Rng& rng) {
+  double u = std::generate_canonical<double, 53>(rng);
+  if (u >= 1.0) u = std::nextafter(1.0, 0.0);  // guard the known libstdc++ edge case
+  return u;
+}
+
+/// Shoemake's uniformly distributed unit quaternion (w, x, y, z) from three uniforms.
+template <class Rng>
+inline Eigen::Vector4d uniformQuaternion(Rng& rng) {
+  const double kTwoPi = 6.283185307179586476925286766559;
+  const double u1 = uniform01(rng), u2 = uniform01(rng), u3 = uniform01(rng);
+  const double a = std::sqrt(1.0 - u1), b = std::sqrt(u1);
+  return Eigen::Vector4d(b * std::cos(kTwoPi * u3), a * std::sin(kTwoPi * u2),
+                         a * std::cos(kTwoPi * u2), b * std::sin(kTwoPi * u3));
+}
+
+}  // namespace detail
+}  // namespace lieservo

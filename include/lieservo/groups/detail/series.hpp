@@ -1,0 +1,94 @@
+// lieservo/groups/detail/series.hpp — power-series helpers shared by the groups.
+//
+// Why: every closed-form coefficient of the rotation groups (sinθ/θ, (1−cosθ)/θ², …) is a
+// ratio whose numerator and denominator both vanish at θ = 0; near zero the closed form
+// either divides by zero or cancels catastrophically. Each coefficient therefore carries
+// its own truncated Taylor series in x = θ² and its own cutoff, derived from the scalar's
+// machine epsilon: with the series a0 + a1 x + … + a_{K−1} x^{K−1} the first omitted term
+// is a_K x^K, and we use the series while |a_K| x^K < eps·|a0|, i.e. while
+//     x < x_cut = (eps · |a0 / a_K|)^(1/K).
+// The number of terms K of each coefficient is chosen (see docs/math.md) so that x_cut lies
+// beyond the region where the closed form loses accuracy through cancellation.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <limits>
+
+#include <Eigen/Core>
+
+namespace lieservo {
+namespace detail {
+
+/// The real type behind a scalar (double for an autodiff scalar over double).
+template <class Scalar>
+using RealOf = typename Eigen::NumTraits<Scalar>::Real;
+
+/// Machine epsilon of the scalar's real type, as long double (cutoffs are computed in long
+/// double at compile time).
+template <class Scalar>
+constexpr long double epsilonOf() noexcept {
+  return static_cast<long double>(std::numeric_limits<RealOf<Scalar>>::epsilon());
+}
+
+/// y^(1/K) for y > 0 by bisection (constexpr: the cutoffs are compile-time constants, so a
+/// coefficient's branch test is a comparison with an immediate).
+constexpr long double constexprRoot(long double y, std::size_t K) noexcept {
+  long double lo = 0.0L, hi = y > 1.0L ? y : 1.0L;
+  for (int it = 0; it < 200; ++it) {
+    const long double mid = 0.5L * (lo + hi);
+    long double p = 1.0L;
+    for (std::size_t k = 0; k < K; ++k) p *= mid;
+    (p < y ? lo : hi) = mid;
+  }
+  return 0.5L * (lo + hi);
+}
+
+/// A truncated series in x = θ²: coefficients a[0..K−1] used, a[K] is the first omitted one.
+/// The tables are long double so that float, double and long double all round once.
+template <std::size_t K>
+struct SeriesTable {
+  long double a[K + 1];
+  /// x_cut = (eps · |a0/a_K|)^(1/K): below it the omitted tail is under eps relative to a0.
+  constexpr long double cutoff(long double eps) const noexcept {
+    const long double ratio = a[0] / a[K] < 0 ? -(a[0] / a[K]) : a[0] / a[K];
+    return constexprRoot(eps * ratio, K);
+  }
+};
+
+/// Horner evaluation of the first K terms of a series in x.
+template <class Scalar, std::size_t K>
+inline Scalar hornerEval(const SeriesTable<K>& s, const Scalar& x) {
+  using Real = RealOf<Scalar>;
+  Scalar r = Scalar(Real(s.a[K - 1]));
+  for (std::size_t k = K - 1; k-- > 0;) r = Scalar(Real(s.a[k])) + x * r;
+  return r;
+}
+
+/// B_n / n! (Bernoulli numbers with B_1 = −1/2), from the generating function x/(eˣ−1):
+/// Σ_{k=0}^{n} b_k / (n+1−k)! = 0 for n ≥ 1, b_0 = 1. Exact enough in long double for n ≤ 60.
+inline long double bernoulliOverFactorial(int n) noexcept {
+  if (n < 0) return 0.0L;
+  if (n == 0) return 1.0L;
+  if (n == 1) return -0.5L;
+  if (n % 2 == 1) return 0.0L;  // B_{2k+1} = 0 for k ≥ 1
+  // b_n = −Σ_{k=0}^{n−1} b_k / (n+1−k)!
+  long double b[64] = {};
+  const int m = n < 63 ? n : 63;
+  b[0] = 1.0L;
+  for (int j = 1; j <= m; ++j) {
+    long double sum = 0.0L;
+    long double fact = 1.0L;  // (j+1−k)! built up from k = j−1 downwards
+    // compute factorials on the fly: for k from j−1 down to 0, (j+1−k)! = 2!, 3!, …
+    fact = 2.0L;  // (j+1−(j−1))! = 2!
+    for (int k = j - 1; k >= 0; --k) {
+      sum += b[k] / fact;
+      fact *= static_cast<long double>(j + 1 - k + 1);
+    }
+    b[j] = -sum;
+  }
+  return b[m];
+}
+
+}  // namespace detail
+}  // namespace lieservo

@@ -1,0 +1,231 @@
+// lieservo/groups/se2.hpp — SE(2), planar rigid transformations [[R, t], [0ᵀ, 1]], stored as
+// an SO2 and a translation. Tangent ξ = [ρx, ρy, θ] (translation first, as SE(3)).
+#pragma once
+
+#include <cmath>
+
+#include <Eigen/Core>
+
+#include "detail/coefficients.hpp"
+#include "so2.hpp"
+
+namespace lieservo {
+
+template <typename Scalar_>
+class SE2 {
+ public:
+  using Scalar = Scalar_;
+  using Real = detail::RealOf<Scalar>;
+  static constexpr int DoF = 3;
+  static constexpr int Dim = 2;
+  using Tangent = Eigen::Matrix<Scalar, 3, 1>;
+  using Jacobian = Eigen::Matrix<Scalar, 3, 3>;
+  using Point = Eigen::Matrix<Scalar, 2, 1>;
+  using Matrix = Eigen::Matrix<Scalar, 3, 3>;
+  using Vector2 = Eigen::Matrix<Scalar, 2, 1>;
+  using Matrix2 = Eigen::Matrix<Scalar, 2, 2>;
+  using SO2Type = SO2<Scalar>;
+
+  SE2() : R_(), t_(Vector2::Zero()) {}
+  SE2(const SO2Type& R, const Vector2& t) : R_(R), t_(t) {}
+  static SE2 identity() { return SE2(); }
+
+  SE2 operator*(const SE2& o) const { return SE2(R_ * o.R_, R_ * o.t_ + t_); }
+  SE2& operator*=(const SE2& o) {
+    *this = *this * o;
+    return *this;
+  }
+  Point operator*(const Point& p) const { return R_ * p + t_; }
+  SE2 inverse() const {
+    const SO2Type Ri = R_.inverse();
+    return SE2(Ri, -(Ri * t_));
+  }
+
+  /// exp(ξ^) = [[R(θ), V(θ) ρ], [0ᵀ, 1]], V = (sinθ/θ) I + ((1 − cosθ)/θ) [[0, −1], [1, 0]].
+  static SE2 exp(const Tangent& xi) {
+    const Scalar th = xi(2);
+    const detail::AngleTerms<Scalar> t(th * th);
+    return SE2(rotationWith(th, t), V(th, t) * xi.template head<2>());
+  }
+  /// log: θ = atan2 ∈ (−π, π], ρ = V(θ)⁻¹ t with V⁻¹ = [[H, θ/2], [−θ/2, H]], H = (θ/2)cot(θ/2).
+  Tangent log() const {
+    const Scalar th = R_.angle();
+    const detail::AngleTerms<Scalar> t(th * th);
+    Tangent xi;
+    xi.template head<2>() = Vinv(th, t) * t_;
+    xi(2) = th;
+    return xi;
+  }
+
+  static Matrix hat(const Tangent& xi) {
+    Matrix m;
+    m << Scalar(0), -xi(2), xi(0),  //
+        xi(2), Scalar(0), xi(1),     //
+        Scalar(0), Scalar(0), Scalar(0);
+    return m;
+  }
+  static Tangent vee(const Matrix& m) { return Tangent(m(0, 2), m(1, 2), Scalar(Real(0.5)) * (m(1, 0) - m(0, 1))); }
+
+  /// Ad(X) = [[R, (t_y, −t_x)ᵀ], [0, 1]] (the planar analogue of eqn:se3_adjoint).
+  Jacobian Ad() const {
+    Jacobian A = Jacobian::Zero();
+    A.template topLeftCorner<2, 2>() = R_.matrix();
+    A(0, 2) = t_(1);
+    A(1, 2) = -t_(0);
+    A(2, 2) = Scalar(1);
+    return A;
+  }
+  /// ad(ξ) = [[θ [[0, −1], [1, 0]], (ρ_y, −ρ_x)ᵀ], [0, 0]] (analogue of eqn:se3_algebra_adjoint).
+  static Jacobian ad(const Tangent& xi) {
+    Jacobian A = Jacobian::Zero();
+    A(0, 1) = -xi(2);
+    A(1, 0) = xi(2);
+    A(0, 2) = xi(1);
+    A(1, 2) = -xi(0);
+    return A;
+  }
+
+  /// Left Jacobian (closed form of eqn:left_jacobian_def): [[V(θ), w], [0, 1]],
+  /// w = (θ C(θ) ρx + B(θ) ρy, θ C(θ) ρy − B(θ) ρx), B = (1 − cosθ)/θ², C = (θ − sinθ)/θ³.
+  static Jacobian leftJacobian(const Tangent& xi) {
+    const Scalar th = xi(2);
+    const detail::AngleTerms<Scalar> t(th * th);
+    return leftJacobianWith(xi, t);
+  }
+  /// Inverse (closed form of eqn:inv_jacobian_def): [[V⁻¹, −V⁻¹ w], [0, 1]].
+  static Jacobian leftJacobianInverse(const Tangent& xi) {
+    const Scalar th = xi(2);
+    const detail::AngleTerms<Scalar> t(th * th);
+    return leftJacobianInverseWith(xi, t);
+  }
+  template <int N>
+  static Jacobian leftJacobianInverseSeries(const Tangent& xi) {
+    return detail::inverseJacobianSeries<SE2, N>(xi);
+  }
+  static Jacobian rightJacobian(const Tangent& xi) { return leftJacobian(-xi); }
+  static Jacobian rightJacobianInverse(const Tangent& xi) { return leftJacobianInverse(-xi); }
+  static SE2 expAndLeftJacobian(const Tangent& xi, Jacobian& J) {
+    const Scalar th = xi(2);
+    const detail::AngleTerms<Scalar> t(th * th);
+    J = leftJacobianWith(xi, t);
+    return SE2(rotationWith(th, t), J.template topLeftCorner<2, 2>() * xi.template head<2>());
+  }
+  Tangent logAndLeftJacobianInverse(Jacobian& Jinv) const {
+    const Scalar th = R_.angle();
+    const detail::AngleTerms<Scalar> t(th * th);
+    Tangent xi;
+    xi.template head<2>() = Vinv(th, t) * t_;
+    xi(2) = th;
+    Jinv = leftJacobianInverseWith(xi, t);
+    return xi;
+  }
+  static Tangent bchLeftSmall(const Tangent& xi1_small, const Tangent& xi2) {
+    return leftJacobianInverse(xi2) * xi1_small + xi2;
+  }
+  static Tangent bchRightSmall(const Tangent& xi1, const Tangent& xi2_small) {
+    return xi1 + leftJacobianInverse(-xi1) * xi2_small;
+  }
+  SE2 interpolate(const SE2& other, Scalar t) const { return *this * exp(t * (inverse() * other).log()); }
+
+  Matrix matrix() const {
+    Matrix m = Matrix::Identity();
+    m.template topLeftCorner<2, 2>() = R_.matrix();
+    m.template topRightCorner<2, 1>() = t_;
+    return m;
+  }
+  const SO2Type& so2() const { return R_; }
+  SO2Type& so2() { return R_; }
+  Matrix2 rotationMatrix() const { return R_.matrix(); }
+  const Vector2& translation() const { return t_; }
+  Vector2& translation() { return t_; }
+
+  static SE2 fromMatrixUnchecked(const Matrix& m) {
+    return SE2(SO2Type::fromMatrixUnchecked(m.template topLeftCorner<2, 2>()), m.template topRightCorner<2, 1>());
+  }
+  static Status fromMatrix(const Matrix& m, SE2& out) noexcept { return fromMatrix(m, out, SO2Type::defaultTolerance()); }
+  static Status fromMatrix(const Matrix& m, SE2& out, Scalar tol) noexcept {
+    if (!m.allFinite()) return Status::non_finite_input;
+    SO2Type R;
+    const Status s = SO2Type::fromMatrix(m.template topLeftCorner<2, 2>(), R, tol);
+    if (s != Status::ok) return s;
+    if (!bottomRowOk(m, tol)) return Status::invalid_argument;
+    out = SE2(R, m.template topRightCorner<2, 1>());
+    return Status::ok;
+  }
+  static Status fromMatrixProjected(const Matrix& m, SE2& out) noexcept {
+    if (!m.allFinite()) return Status::non_finite_input;
+    SO2Type R;
+    const Status s = SO2Type::fromMatrixProjected(m.template topLeftCorner<2, 2>(), R);
+    if (s != Status::ok) return s;
+    if (!bottomRowOk(m, SO2Type::defaultTolerance())) return Status::invalid_argument;
+    out = SE2(R, m.template topRightCorner<2, 1>());
+    return Status::ok;
+  }
+  void normalize() noexcept { R_.normalize(); }
+  bool allFinite() const { return R_.allFinite() && t_.allFinite(); }
+  bool isApprox(const SE2& o, Scalar tol) const {
+    using std::max;
+    const Scalar scale = Scalar(1) + max(t_.norm(), o.t_.norm());
+    return R_.isApprox(o.R_, tol) && (t_ - o.t_).norm() <= tol * scale;
+  }
+  template <class NewScalar>
+  SE2<NewScalar> cast() const {
+    return SE2<NewScalar>(R_.template cast<NewScalar>(), t_.template cast<NewScalar>());
+  }
+  template <class Rng>
+  static SE2 sampleUniform(Rng& rng, Scalar translation_scale = Scalar(1)) {
+    const SO2Type R = SO2Type::sampleUniform(rng);
+    Vector2 t;
+    for (int i = 0; i < 2; ++i) t(i) = translation_scale * Scalar(2.0 * detail::uniform01(rng) - 1.0);
+    return SE2(R, t);
+  }
+
+ private:
+  /// R(θ) from the shared terms: cosθ = 1 − θ²B, sinθ = θA (no second sin/cos call).
+  static SO2Type rotationWith(const Scalar& th, const detail::AngleTerms<Scalar>& t) {
+    return SO2Type::fromCosSinUnchecked(Scalar(1) - t.theta2 * detail::coeffB(t), th * detail::coeffA(t));
+  }
+  static Matrix2 V(const Scalar& th, const detail::AngleTerms<Scalar>& t) {
+    const Scalar a = detail::coeffA(t), b = th * detail::coeffB(t);
+    Matrix2 m;
+    m << a, -b, b, a;
+    return m;
+  }
+  static Matrix2 Vinv(const Scalar& th, const detail::AngleTerms<Scalar>& t) {
+    const Scalar h = detail::coeffH(t), hth = Scalar(Real(0.5)) * th;
+    Matrix2 m;
+    m << h, hth, -hth, h;
+    return m;
+  }
+  static Vector2 wOf(const Tangent& xi, const detail::AngleTerms<Scalar>& t) {
+    const Scalar tc = xi(2) * detail::coeffC(t), b = detail::coeffB(t);
+    return Vector2(tc * xi(0) + b * xi(1), tc * xi(1) - b * xi(0));
+  }
+  static Jacobian leftJacobianWith(const Tangent& xi, const detail::AngleTerms<Scalar>& t) {
+    Jacobian J = Jacobian::Zero();
+    J.template topLeftCorner<2, 2>() = V(xi(2), t);
+    J.template topRightCorner<2, 1>() = wOf(xi, t);
+    J(2, 2) = Scalar(1);
+    return J;
+  }
+  static Jacobian leftJacobianInverseWith(const Tangent& xi, const detail::AngleTerms<Scalar>& t) {
+    Jacobian J = Jacobian::Zero();
+    const Matrix2 Vi = Vinv(xi(2), t);
+    J.template topLeftCorner<2, 2>() = Vi;
+    J.template topRightCorner<2, 1>() = -(Vi * wOf(xi, t));
+    J(2, 2) = Scalar(1);
+    return J;
+  }
+  static bool bottomRowOk(const Matrix& m, Scalar tol) {
+    using std::abs;
+    return abs(m(2, 0)) <= tol && abs(m(2, 1)) <= tol && abs(m(2, 2) - Scalar(1)) <= tol;
+  }
+
+  SO2Type R_;
+  Vector2 t_;
+};
+
+using SE2d = SE2<double>;
+using SE2f = SE2<float>;
+
+}  // namespace lieservo

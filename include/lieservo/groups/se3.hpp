@@ -1,0 +1,293 @@
+// lieservo/groups/se3.hpp — SE(3), rigid transformations X = [[C, r], [0ᵀ, 1]]
+// (eqn:se3_matrix_def), stored as an SO3 and a translation vector.
+//
+// Conventions (docs/conventions.md): ξ = [ρ; φ] (translation first, eqn:se3_hat_operator),
+// left perturbation X = exp(ε^) X̄, Ad(X) = [[C, r^C], [0, C]] (eqn:se3_adjoint),
+// ad(ξ) = [[φ^, ρ^], [0, φ^]] (eqn:se3_algebra_adjoint), J = left Jacobian (eqn:left_jacobian_def).
+#pragma once
+
+#include <cmath>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "so3.hpp"
+
+namespace lieservo {
+
+// Implementation note: tangent vectors are filled with fixed-size head<3>()/tail<3>()
+// assignments, not the comma initializer, which trips GCC 12's -Warray-bounds (a false
+// positive in Eigen's packet path for float 3-vectors at -O3).
+template <typename Scalar_>
+class SE3 {
+ public:
+  using Scalar = Scalar_;
+  using Real = detail::RealOf<Scalar>;
+  static constexpr int DoF = 6;
+  static constexpr int Dim = 3;
+  using Tangent = Eigen::Matrix<Scalar, 6, 1>;
+  using Jacobian = Eigen::Matrix<Scalar, 6, 6>;
+  using Point = Eigen::Matrix<Scalar, 3, 1>;
+  using Matrix = Eigen::Matrix<Scalar, 4, 4>;
+  using Vector3 = Eigen::Matrix<Scalar, 3, 1>;
+  using Vector6 = Eigen::Matrix<Scalar, 6, 1>;
+  using Matrix3 = Eigen::Matrix<Scalar, 3, 3>;
+  using Matrix4 = Eigen::Matrix<Scalar, 4, 4>;
+  using Isometry = Eigen::Transform<Scalar, 3, Eigen::Isometry>;
+  using Quaternion = Eigen::Quaternion<Scalar>;
+  using SO3Type = SO3<Scalar>;
+
+  SE3() : C_(), r_(Vector3::Zero()) {}
+  SE3(const SO3Type& C, const Vector3& r) : C_(C), r_(r) {}
+  static SE3 identity() { return SE3(); }
+
+  // ---- group operations -----------------------------------------------------------------
+  SE3 operator*(const SE3& o) const { return SE3(C_ * o.C_, C_ * o.r_ + r_); }
+  SE3& operator*=(const SE3& o) {
+    r_ = C_ * o.r_ + r_;
+    C_ *= o.C_;
+    return *this;
+  }
+  Point operator*(const Point& p) const { return C_ * p + r_; }
+  SE3 inverse() const {
+    const SO3Type Ci = C_.inverse();
+    return SE3(Ci, -(Ci * r_));
+  }
+
+  // ---- exp / log --------------------------------------------------------------------------
+  /// exp(ξ^) = [[exp(φ^), J(φ) ρ], [0ᵀ, 1]] (eqn:se3_hat_operator, Barfoot's closed form).
+  static SE3 exp(const Tangent& xi) {
+    const Vector3 rho = xi.template head<3>(), phi = xi.template tail<3>();
+    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    return SE3(SO3Type::expWith(phi, t), SO3Type::leftJacobianWith(phi, t) * rho);
+  }
+  /// log(X)^∨ = [J(φ)⁻¹ r; φ] with φ = log(C), θ ∈ [0, π] (sign rule at π as SO3::log).
+  Tangent log() const {
+    const Vector3 phi = C_.log();
+    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    Tangent xi;
+    xi.template head<3>() = SO3Type::leftJacobianInverseWith(phi, t) * r_;
+    xi.template tail<3>() = phi;
+    return xi;
+  }
+
+  /// ξ^ = [[φ^, ρ], [0ᵀ, 0]] (eqn:se3_hat_operator).
+  static Matrix hat(const Tangent& xi) {
+    Matrix m = Matrix::Zero();
+    m.template topLeftCorner<3, 3>() = detail::skew(Vector3(xi.template tail<3>()));
+    m.template topRightCorner<3, 1>() = xi.template head<3>();
+    return m;
+  }
+  static Tangent vee(const Matrix& m) {
+    Tangent xi;
+    xi.template head<3>() = m.template topRightCorner<3, 1>();
+    xi.template tail<3>() = SO3Type::vee(m.template topLeftCorner<3, 3>());
+    return xi;
+  }
+
+  /// Ad(X) = [[C, r^C], [0, C]] (eqn:se3_adjoint).
+  Jacobian Ad() const {
+    Jacobian A;
+    const Matrix3& C = C_.rotationMatrix();
+    A.template topLeftCorner<3, 3>() = C;
+    A.template topRightCorner<3, 3>() = detail::skew(r_) * C;
+    A.template bottomLeftCorner<3, 3>().setZero();
+    A.template bottomRightCorner<3, 3>() = C;
+    return A;
+  }
+  /// ad(ξ) = ξ⋏ = [[φ^, ρ^], [0, φ^]] (eqn:se3_algebra_adjoint).
+  static Jacobian ad(const Tangent& xi) {
+    Jacobian A;
+    const Matrix3 P = detail::skew(Vector3(xi.template tail<3>()));
+    A.template topLeftCorner<3, 3>() = P;
+    A.template topRightCorner<3, 3>() = detail::skew(Vector3(xi.template head<3>()));
+    A.template bottomLeftCorner<3, 3>().setZero();
+    A.template bottomRightCorner<3, 3>() = P;
+    return A;
+  }
+
+  // ---- Jacobians ---------------------------------------------------------------------------
+  /// Barfoot's Q(ρ, φ), the top-right block of the SE(3) left Jacobian:
+  /// Q = ½ρ^ + C(θ)(φ^ρ^ + ρ^φ^ + φ^ρ^φ^) + E(θ)(φ^φ^ρ^ + ρ^φ^φ^ − 3φ^ρ^φ^)
+  ///     + F(θ)(φ^ρ^φ^φ^ + φ^φ^ρ^φ^), with C, E, F from detail/coefficients.hpp.
+  static Matrix3 Q(const Vector3& rho, const Vector3& phi) {
+    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    return QWith(rho, phi, t);
+  }
+  /// Left Jacobian, closed form of eqn:left_jacobian_def: [[J(φ), Q(ρ, φ)], [0, J(φ)]].
+  static Jacobian leftJacobian(const Tangent& xi) {
+    const Vector3 rho = xi.template head<3>(), phi = xi.template tail<3>();
+    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    return leftJacobianWith(rho, phi, t);
+  }
+  /// Inverse left Jacobian, closed form of eqn:inv_jacobian_def:
+  /// [[J⁻¹, −J⁻¹ Q J⁻¹], [0, J⁻¹]].
+  static Jacobian leftJacobianInverse(const Tangent& xi) {
+    const Vector3 rho = xi.template head<3>(), phi = xi.template tail<3>();
+    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    return leftJacobianInverseWith(rho, phi, t);
+  }
+  /// Truncated series Σ_{n=0}^{N} B_n/n! (ξ⋏)^n (eqn:inv_jacobian_def); N = 2 is the paper's.
+  template <int N>
+  static Jacobian leftJacobianInverseSeries(const Tangent& xi) {
+    return detail::inverseJacobianSeries<SE3, N>(xi);
+  }
+  static Jacobian rightJacobian(const Tangent& xi) { return leftJacobian(-xi); }
+  static Jacobian rightJacobianInverse(const Tangent& xi) { return leftJacobianInverse(-xi); }
+
+  static SE3 expAndLeftJacobian(const Tangent& xi, Jacobian& J) {
+    const Vector3 rho = xi.template head<3>(), phi = xi.template tail<3>();
+    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    J = leftJacobianWith(rho, phi, t);
+    return SE3(SO3Type::expWith(phi, t), J.template topLeftCorner<3, 3>() * rho);
+  }
+  Tangent logAndLeftJacobianInverse(Jacobian& Jinv) const {
+    const Vector3 phi = C_.log();
+    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    const Matrix3 Ji = SO3Type::leftJacobianInverseWith(phi, t);
+    const Vector3 rho = Ji * r_;
+    Jinv.template topLeftCorner<3, 3>() = Ji;
+    Jinv.template topRightCorner<3, 3>() = -(Ji * QWith(rho, phi, t) * Ji);
+    Jinv.template bottomLeftCorner<3, 3>().setZero();
+    Jinv.template bottomRightCorner<3, 3>() = Ji;
+    Tangent xi;
+    xi.template head<3>() = rho;
+    xi.template tail<3>() = phi;
+    return xi;
+  }
+
+  // ---- BCH (eqn:bch_approx) ----------------------------------------------------------------
+  static Tangent bchLeftSmall(const Tangent& xi1_small, const Tangent& xi2) {
+    return leftJacobianInverse(xi2) * xi1_small + xi2;
+  }
+  static Tangent bchRightSmall(const Tangent& xi1, const Tangent& xi2_small) {
+    return xi1 + leftJacobianInverse(-xi1) * xi2_small;
+  }
+
+  SE3 interpolate(const SE3& other, Scalar t) const { return *this * exp(t * (inverse() * other).log()); }
+
+  // ---- matrices and construction -----------------------------------------------------------
+  Matrix matrix() const {
+    Matrix m = Matrix::Identity();
+    m.template topLeftCorner<3, 3>() = C_.rotationMatrix();
+    m.template topRightCorner<3, 1>() = r_;
+    return m;
+  }
+  const SO3Type& so3() const { return C_; }
+  SO3Type& so3() { return C_; }
+  const Matrix3& rotationMatrix() const { return C_.rotationMatrix(); }
+  Matrix3& rotationMatrix() { return C_.rotationMatrix(); }
+  const Vector3& translation() const { return r_; }
+  Vector3& translation() { return r_; }
+
+  /// Unchecked: the top-left block is taken as the rotation, the last column as r; the
+  /// bottom row is ignored.
+  static SE3 fromMatrixUnchecked(const Matrix& M) {
+    return SE3(SO3Type::fromMatrixUnchecked(M.template topLeftCorner<3, 3>()), M.template topRightCorner<3, 1>());
+  }
+  /// Checked: finite; rotation block orthonormal with det +1 (tolerance as SO3::fromMatrix);
+  /// bottom row [0 0 0 1] within the same tolerance (else invalid_argument).
+  static Status fromMatrix(const Matrix& M, SE3& out) noexcept { return fromMatrix(M, out, SO3Type::defaultTolerance()); }
+  static Status fromMatrix(const Matrix& M, SE3& out, Scalar tol) noexcept {
+    if (!M.allFinite()) return Status::non_finite_input;
+    SO3Type C;
+    const Status s = SO3Type::fromMatrix(M.template topLeftCorner<3, 3>(), C, tol);
+    if (s != Status::ok) return s;
+    if (!bottomRowOk(M, tol)) return Status::invalid_argument;
+    out = SE3(C, M.template topRightCorner<3, 1>());
+    return Status::ok;
+  }
+  /// Projects the rotation block to the nearest rotation (SO3::fromMatrixProjected).
+  static Status fromMatrixProjected(const Matrix& M, SE3& out) noexcept {
+    if (!M.allFinite()) return Status::non_finite_input;
+    SO3Type C;
+    const Status s = SO3Type::fromMatrixProjected(M.template topLeftCorner<3, 3>(), C);
+    if (s != Status::ok) return s;
+    if (!bottomRowOk(M, SO3Type::defaultTolerance())) return Status::invalid_argument;
+    out = SE3(C, M.template topRightCorner<3, 1>());
+    return Status::ok;
+  }
+  void normalize() noexcept { C_.normalize(); }
+  bool allFinite() const { return C_.allFinite() && r_.allFinite(); }
+  /// Rotation ‖ΔC‖_F ≤ tol and translation ‖Δr‖ ≤ tol · (1 + max(‖r1‖, ‖r2‖)).
+  bool isApprox(const SE3& o, Scalar tol) const {
+    using std::max;
+    const Scalar scale = Scalar(1) + max(r_.norm(), o.r_.norm());
+    return C_.isApprox(o.C_, tol) && (r_ - o.r_).norm() <= tol * scale;
+  }
+  template <class NewScalar>
+  SE3<NewScalar> cast() const {
+    return SE3<NewScalar>(C_.template cast<NewScalar>(), r_.template cast<NewScalar>());
+  }
+  /// Uniform rotation (Haar) and translation uniform in [−s, s]³, s = translation_scale.
+  template <class Rng>
+  static SE3 sampleUniform(Rng& rng, Scalar translation_scale = Scalar(1)) {
+    const SO3Type C = SO3Type::sampleUniform(rng);
+    Vector3 r;
+    for (int i = 0; i < 3; ++i) r(i) = translation_scale * Scalar(2.0 * detail::uniform01(rng) - 1.0);
+    return SE3(C, r);
+  }
+
+  // ---- conversions --------------------------------------------------------------------------
+  static SE3 fromIsometry(const Isometry& T) { return SE3(SO3Type::fromMatrixUnchecked(T.linear()), T.translation()); }
+  Isometry isometry() const {
+    Isometry T = Isometry::Identity();
+    T.linear() = C_.rotationMatrix();
+    T.translation() = r_;
+    return T;
+  }
+  /// (x, y, z, α, β, γ), angles in radians, C = Rz(γ) Ry(β) Rx(α), r = (x, y, z).
+  static SE3 fromEulerXYZ6(const Vector6& v) {
+    return SE3(SO3Type::fromEulerXYZ(v(3), v(4), v(5)), v.template head<3>());
+  }
+  Vector6 toEulerXYZ6() const {
+    Vector6 v;
+    v.template head<3>() = r_;
+    v.template tail<3>() = C_.toEulerXYZ();
+    return v;
+  }
+  /// As fromEulerXYZ6 with the angles in degrees (translation unchanged; the dataset's labels).
+  static SE3 fromEulerXYZ6Degrees(const Vector6& v) { return fromEulerXYZ6(poseDegToRad(v)); }
+  Vector6 toEulerXYZ6Degrees() const { return poseRadToDeg(toEulerXYZ6()); }
+
+ private:
+  static Matrix3 QWith(const Vector3& rho, const Vector3& phi, const detail::AngleTerms<Scalar>& t) {
+    const Matrix3 P = detail::skew(phi), R = detail::skew(rho);
+    const Matrix3 PR = P * R, RP = R * P;
+    const Matrix3 PRP = PR * P, PPR = P * PR, RPP = RP * P;
+    const Matrix3 PRPP = PRP * P, PPRP = P * PRP;
+    return Scalar(Real(0.5)) * R + detail::coeffC(t) * (PR + RP + PRP) +
+           detail::coeffE(t) * (PPR + RPP - Scalar(Real(3)) * PRP) + detail::coeffF(t) * (PRPP + PPRP);
+  }
+  static Jacobian leftJacobianWith(const Vector3& rho, const Vector3& phi, const detail::AngleTerms<Scalar>& t) {
+    Jacobian J;
+    const Matrix3 Jr = SO3Type::leftJacobianWith(phi, t);
+    J.template topLeftCorner<3, 3>() = Jr;
+    J.template topRightCorner<3, 3>() = QWith(rho, phi, t);
+    J.template bottomLeftCorner<3, 3>().setZero();
+    J.template bottomRightCorner<3, 3>() = Jr;
+    return J;
+  }
+  static Jacobian leftJacobianInverseWith(const Vector3& rho, const Vector3& phi,
+                                          const detail::AngleTerms<Scalar>& t) {
+    Jacobian J;
+    const Matrix3 Ji = SO3Type::leftJacobianInverseWith(phi, t);
+    J.template topLeftCorner<3, 3>() = Ji;
+    J.template topRightCorner<3, 3>() = -(Ji * QWith(rho, phi, t) * Ji);
+    J.template bottomLeftCorner<3, 3>().setZero();
+    J.template bottomRightCorner<3, 3>() = Ji;
+    return J;
+  }
+  static bool bottomRowOk(const Matrix& M, Scalar tol) {
+    using std::abs;
+    return abs(M(3, 0)) <= tol && abs(M(3, 1)) <= tol && abs(M(3, 2)) <= tol && abs(M(3, 3) - Scalar(1)) <= tol;
+  }
+
+  SO3Type C_;
+  Vector3 r_;
+};
+
+using SE3d = SE3<double>;
+using SE3f = SE3<float>;
+
+}  // namespace lieservo

@@ -1,0 +1,298 @@
+// lieservo/groups/so3.hpp — SO(3), the group of 3-D rotations, stored as a 3×3 rotation matrix C.
+//
+// Conventions (docs/conventions.md): tangent φ ∈ R³ (rotation vector, radians), left
+// perturbation C = exp(δφ^) C̄, Ad(C) = C, ad(φ) = φ^, J = left Jacobian.
+#pragma once
+
+#include <cmath>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+
+#include "../status.hpp"
+#include "../units.hpp"
+#include "detail/coefficients.hpp"
+#include "detail/generic.hpp"
+#include "detail/rotation.hpp"
+
+namespace lieservo {
+
+template <typename Scalar_>
+class SO3 {
+ public:
+  using Scalar = Scalar_;
+  using Real = detail::RealOf<Scalar>;
+  static constexpr int DoF = 3;
+  static constexpr int Dim = 3;
+  using Tangent = Eigen::Matrix<Scalar, 3, 1>;
+  using Jacobian = Eigen::Matrix<Scalar, 3, 3>;
+  using Point = Eigen::Matrix<Scalar, 3, 1>;
+  using Matrix = Eigen::Matrix<Scalar, 3, 3>;
+  using Vector3 = Eigen::Matrix<Scalar, 3, 1>;
+  using Matrix3 = Eigen::Matrix<Scalar, 3, 3>;
+  using Quaternion = Eigen::Quaternion<Scalar>;
+
+  /// Identity rotation.
+  SO3() : C_(Matrix3::Identity()) {}
+  static SO3 identity() { return SO3(); }
+
+  // ---- group operations -----------------------------------------------------------------
+  /// Composition: a plain matrix product (no hidden renormalisation; see normalize()).
+  SO3 operator*(const SO3& o) const { return fromMatrixUnchecked(C_ * o.C_); }
+  SO3& operator*=(const SO3& o) {
+    C_ = (C_ * o.C_).eval();
+    return *this;
+  }
+  Point operator*(const Point& p) const { return C_ * p; }
+  SO3 inverse() const { return fromMatrixUnchecked(C_.transpose()); }
+
+  // ---- exp / log --------------------------------------------------------------------------
+  /// exp(φ^) = I + (sinθ/θ) φ^ + ((1 − cosθ)/θ²) φ^φ^ (Rodrigues). Any |φ| (also ≥ π).
+  static SO3 exp(const Tangent& phi) {
+    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    return expWith(phi, t);
+  }
+
+  /// log(C)^∨ with θ = |φ| ∈ [0, π], via Shepperd's quaternion and θ = 2 atan2(|v|, w).
+  /// At θ = π exactly the axis sign follows quaternionFromMatrix's rule (largest-magnitude
+  /// component positive). Accurate to a few ulp everywhere, including near π.
+  Tangent log() const { return detail::rotationVectorFromQuaternion(detail::quaternionFromMatrix(C_)); }
+
+  /// φ^ (eqn:so3_hat_operator).
+  static Matrix hat(const Tangent& phi) { return detail::skew(phi); }
+  /// Inverse of hat: reads the skew-symmetric part (averaging the two copies of each entry).
+  static Tangent vee(const Matrix& m) {
+    const Scalar h(Real(0.5));
+    return Tangent(h * (m(2, 1) - m(1, 2)), h * (m(0, 2) - m(2, 0)), h * (m(1, 0) - m(0, 1)));
+  }
+
+  /// Ad(C) = C (the rotation block of eqn:se3_adjoint).
+  Jacobian Ad() const { return C_; }
+  /// ad(φ) = φ^ (the rotation block of eqn:se3_algebra_adjoint).
+  static Jacobian ad(const Tangent& phi) { return detail::skew(phi); }
+
+  // ---- Jacobians ---------------------------------------------------------------------------
+  /// Left Jacobian, closed form of eqn:left_jacobian_def:
+  /// J = I + ((1 − cosθ)/θ²) φ^ + ((θ − sinθ)/θ³) φ^φ^.
+  static Jacobian leftJacobian(const Tangent& phi) {
+    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    return leftJacobianWith(phi, t);
+  }
+  /// Inverse left Jacobian, closed form of eqn:inv_jacobian_def:
+  /// J⁻¹ = I − ½ φ^ + (1/θ²)(1 − θ sinθ/(2(1 − cosθ))) φ^φ^  (singular at θ = 2π).
+  static Jacobian leftJacobianInverse(const Tangent& phi) {
+    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    return leftJacobianInverseWith(phi, t);
+  }
+  /// Truncated series Σ_{n=0}^{N} B_n/n! (φ^)^n (eqn:inv_jacobian_def); N = 2 is the paper's.
+  template <int N>
+  static Jacobian leftJacobianInverseSeries(const Tangent& phi) {
+    return detail::inverseJacobianSeries<SO3, N>(phi);
+  }
+  /// Right Jacobian Jr(φ) = J(−φ) = J(φ)ᵀ.
+  static Jacobian rightJacobian(const Tangent& phi) { return leftJacobian(-phi); }
+  static Jacobian rightJacobianInverse(const Tangent& phi) { return leftJacobianInverse(-phi); }
+
+  /// exp(φ) and J(φ) sharing the trigonometric work.
+  static SO3 expAndLeftJacobian(const Tangent& phi, Jacobian& J) {
+    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    J = leftJacobianWith(phi, t);
+    return expWith(phi, t);
+  }
+  /// log(C) and J(log C)⁻¹ sharing the trigonometric work.
+  Tangent logAndLeftJacobianInverse(Jacobian& Jinv) const {
+    const Tangent phi = log();
+    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    Jinv = leftJacobianInverseWith(phi, t);
+    return phi;
+  }
+
+  // ---- BCH (eqn:bch_approx) ----------------------------------------------------------------
+  /// log(exp(ξ1) exp(ξ2)) ≈ J(ξ2)⁻¹ ξ1 + ξ2 for small ξ1.
+  static Tangent bchLeftSmall(const Tangent& xi1_small, const Tangent& xi2) {
+    return leftJacobianInverse(xi2) * xi1_small + xi2;
+  }
+  /// log(exp(ξ1) exp(ξ2)) ≈ ξ1 + J(−ξ1)⁻¹ ξ2 for small ξ2.
+  static Tangent bchRightSmall(const Tangent& xi1, const Tangent& xi2_small) {
+    return xi1 + leftJacobianInverse(-xi1) * xi2_small;
+  }
+
+  /// Geodesic interpolation: *this · exp(t · log(this⁻¹ · other)); t = 0 → *this, t = 1 → other.
+  SO3 interpolate(const SO3& other, Scalar t) const { return *this * exp(t * (inverse() * other).log()); }
+
+  // ---- matrices and construction -----------------------------------------------------------
+  Matrix matrix() const { return C_; }
+  const Matrix3& rotationMatrix() const { return C_; }
+  /// Mutable access (unchecked: the caller keeps C orthonormal, e.g. by calling normalize()).
+  Matrix3& rotationMatrix() { return C_; }
+
+  /// Unchecked fast path: C is taken as is (the caller guarantees C ∈ SO(3)).
+  static SO3 fromMatrixUnchecked(const Matrix& C) {
+    SO3 r;
+    r.C_ = C;
+    return r;
+  }
+  /// Default tolerance of fromMatrix on ‖CᵀC − I‖_F: √eps (1.5e-8 double, 3.5e-4 float).
+  static Scalar defaultTolerance() {
+    using std::sqrt;
+    return Scalar(sqrt(Eigen::NumTraits<Real>::epsilon()));
+  }
+  /// Checked: finite, ‖CᵀC − I‖_F ≤ tol, det C > 0. `out` is untouched unless ok.
+  static Status fromMatrix(const Matrix& C, SO3& out) noexcept { return fromMatrix(C, out, defaultTolerance()); }
+  static Status fromMatrix(const Matrix& C, SO3& out, Scalar tol) noexcept {
+    if (!C.allFinite()) return Status::non_finite_input;
+    if (!((C.transpose() * C - Matrix3::Identity()).norm() <= tol)) return Status::not_orthonormal;
+    if (!(C.determinant() > Scalar(0))) return Status::not_orthonormal;
+    out.C_ = C;
+    return Status::ok;
+  }
+  /// Nearest rotation in the Frobenius norm (SVD: U diag(1, 1, det(UVᵀ)) Vᵀ). Rejects
+  /// non-finite input and matrices of rank < 2 (nearest rotation not unique).
+  static Status fromMatrixProjected(const Matrix& M, SO3& out) noexcept {
+    if (!M.allFinite()) return Status::non_finite_input;
+    Eigen::JacobiSVD<Matrix3> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    const Vector3 s = svd.singularValues();  // descending
+    if (!(s(1) > Scalar(Real(16)) * Eigen::NumTraits<Real>::epsilon() * s(0))) return Status::invalid_argument;
+    Matrix3 D = Matrix3::Identity();
+    D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < Scalar(0) ? Scalar(-1) : Scalar(1);
+    Matrix3 C = svd.matrixU() * D * svd.matrixV().transpose();
+    if (!C.allFinite()) return Status::numerical_failure;
+    SO3 r = fromMatrixUnchecked(C);
+    r.normalize();
+    out = r;
+    return Status::ok;
+  }
+
+  /// Cheap re-orthonormalisation (a few flops, no SVD): the first two columns are
+  /// symmetrically decorrelated and normalised, the third is their cross product. Restores
+  /// ‖CᵀC − I‖ to ~eps from a drift of up to ~1e-3. Composition never calls it implicitly.
+  void normalize() noexcept {
+    using std::sqrt;
+    Vector3 x = C_.col(0), y = C_.col(1);
+    const Scalar e = x.dot(y) * Scalar(Real(0.5));
+    const Vector3 x2 = x - e * y;
+    const Vector3 y2 = y - e * x;
+    x = x2 / x2.norm();
+    y = y2 - x.dot(y2) * x;
+    y /= y.norm();
+    C_.col(0) = x;
+    C_.col(1) = y;
+    C_.col(2) = x.cross(y);
+  }
+  bool allFinite() const { return C_.allFinite(); }
+  /// ‖C1 − C2‖_F ≤ tol.
+  bool isApprox(const SO3& o, Scalar tol) const { return (C_ - o.C_).norm() <= tol; }
+
+  template <class NewScalar>
+  SO3<NewScalar> cast() const {
+    return SO3<NewScalar>::fromMatrixUnchecked(C_.template cast<NewScalar>());
+  }
+
+  /// Uniformly distributed rotation (Haar measure) from a unit quaternion (Shoemake);
+  /// translation_scale is ignored (kept for a uniform interface across groups).
+  template <class Rng>
+  static SO3 sampleUniform(Rng& rng, Scalar translation_scale = Scalar(1)) {
+    (void)translation_scale;
+    const Eigen::Vector4d q = detail::uniformQuaternion(rng);
+    return fromQuaternion(Quaternion(Scalar(q(0)), Scalar(q(1)), Scalar(q(2)), Scalar(q(3))));
+  }
+
+  // ---- conversions --------------------------------------------------------------------------
+  /// Unit quaternion with w ≥ 0 (sign rule at w = 0 as in log()).
+  Quaternion unitQuaternion() const {
+    const Eigen::Matrix<Scalar, 4, 1> q = detail::quaternionFromMatrix(C_);
+    return Quaternion(q(0), q(1), q(2), q(3));
+  }
+  /// From any non-zero quaternion (normalised here; unchecked for zero/non-finite).
+  static SO3 fromQuaternion(const Quaternion& q) {
+    const Scalar n2 = q.squaredNorm();
+    const Scalar w = q.w(), x = q.x(), y = q.y(), z = q.z();
+    const Scalar two(Real(2));
+    const Scalar s = two / n2;
+    Matrix3 C;
+    C(0, 0) = Scalar(1) - s * (y * y + z * z);
+    C(0, 1) = s * (x * y - w * z);
+    C(0, 2) = s * (x * z + w * y);
+    C(1, 0) = s * (x * y + w * z);
+    C(1, 1) = Scalar(1) - s * (x * x + z * z);
+    C(1, 2) = s * (y * z - w * x);
+    C(2, 0) = s * (x * z - w * y);
+    C(2, 1) = s * (y * z + w * x);
+    C(2, 2) = Scalar(1) - s * (x * x + y * y);
+    return fromMatrixUnchecked(C);
+  }
+
+  /// Extrinsic x-y-z Euler angles (radians): C = Rz(γ) Ry(β) Rx(α) (scipy "xyz", tf "sxyz").
+  static SO3 fromEulerXYZ(Scalar a, Scalar b, Scalar g) {
+    using std::cos;
+    using std::sin;
+    const Scalar ca = cos(a), sa = sin(a), cb = cos(b), sb = sin(b), cg = cos(g), sg = sin(g);
+    Matrix3 C;
+    C(0, 0) = cg * cb;
+    C(0, 1) = cg * sb * sa - sg * ca;
+    C(0, 2) = cg * sb * ca + sg * sa;
+    C(1, 0) = sg * cb;
+    C(1, 1) = sg * sb * sa + cg * ca;
+    C(1, 2) = sg * sb * ca - cg * sa;
+    C(2, 0) = -sb;
+    C(2, 1) = cb * sa;
+    C(2, 2) = cb * ca;
+    return fromMatrixUnchecked(C);
+  }
+  static SO3 fromEulerXYZ(const Vector3& abg) { return fromEulerXYZ(abg(0), abg(1), abg(2)); }
+  /// (α, β, γ) with β ∈ [−π/2, π/2], α, γ ∈ (−π, π]. At gimbal lock (cos β ≈ 0) γ = 0.
+  Vector3 toEulerXYZ() const {
+    using std::atan2;
+    using std::sqrt;
+    const Scalar cb = sqrt(C_(0, 0) * C_(0, 0) + C_(1, 0) * C_(1, 0));
+    const Scalar b = atan2(-C_(2, 0), cb);
+    if (cb > Scalar(Real(16)) * Eigen::NumTraits<Real>::epsilon()) {
+      return Vector3(atan2(C_(2, 1), C_(2, 2)), b, atan2(C_(1, 0), C_(0, 0)));
+    }
+    return Vector3(atan2(-C_(1, 2), C_(1, 1)), b, Scalar(0));
+  }
+  static SO3 fromEulerXYZDegrees(Scalar a, Scalar b, Scalar g) {
+    return fromEulerXYZ(deg2rad(a), deg2rad(b), deg2rad(g));
+  }
+  static SO3 fromEulerXYZDegrees(const Vector3& abg) { return fromEulerXYZDegrees(abg(0), abg(1), abg(2)); }
+  Vector3 toEulerXYZDegrees() const {
+    const Vector3 r = toEulerXYZ();
+    return Vector3(rad2deg(r(0)), rad2deg(r(1)), rad2deg(r(2)));
+  }
+
+  // ---- shared-trig kernels (public for SE(3); not part of the contract) ------------------
+  static SO3 expWith(const Tangent& phi, const detail::AngleTerms<Scalar>& t) {
+    const Scalar A = detail::coeffA(t), B = detail::coeffB(t);
+    // I + A φ^ + B φ^φ^, with φ^φ^ = φφᵀ − θ² I.
+    Matrix3 C = (B * phi) * phi.transpose();
+    const Scalar d = Scalar(1) - B * t.theta2;
+    C(0, 0) += d;
+    C(1, 1) += d;
+    C(2, 2) += d;
+    const Vector3 a = A * phi;
+    C(0, 1) -= a(2);
+    C(1, 0) += a(2);
+    C(0, 2) += a(1);
+    C(2, 0) -= a(1);
+    C(1, 2) -= a(0);
+    C(2, 1) += a(0);
+    return fromMatrixUnchecked(C);
+  }
+  static Jacobian leftJacobianWith(const Tangent& phi, const detail::AngleTerms<Scalar>& t) {
+    const Matrix3 P = detail::skew(phi);
+    return Matrix3::Identity() + detail::coeffB(t) * P + detail::coeffC(t) * (P * P);
+  }
+  static Jacobian leftJacobianInverseWith(const Tangent& phi, const detail::AngleTerms<Scalar>& t) {
+    const Matrix3 P = detail::skew(phi);
+    return Matrix3::Identity() - Scalar(Real(0.5)) * P + detail::coeffD(t) * (P * P);
+  }
+
+ private:
+  Matrix3 C_;
+};
+
+using SO3d = SO3<double>;
+using SO3f = SO3<float>;
+
+}  // namespace lieservo

@@ -1,0 +1,135 @@
+// lieservo/realtime/velocity_pipeline.hpp — the body of a 1 kHz Cartesian velocity callback.
+//
+// Everything a robot adapter's real-time callback does, without the robot library, so it
+// is tested in CI: (1) take the latest tactile command (a sensor-frame body twist in the
+// library's units, mm/s and rad/s, plus a contact flag) with its stamp, (2) let the
+// CommandWatchdog decide whether it may pass, (3) convert it to libfranka's base-frame
+// EE-origin velocity through the current O_T_EE and the sensor mount (frames.hpp), (4)
+// smooth it with the jerk-limited VelocitySmoother IN THE BASE FRAME, so the limits hold on
+// exactly the signal the robot receives, and (5) output O_dP_EE = [ṗ (m/s); ω (rad/s)].
+//
+// The examples/franka adapter calls step() once per libfranka callback; a fake robot in
+// tests/realtime drives it at 1 kHz from a second thread.
+#pragma once
+
+#include <lieservo/realtime/frames.hpp>
+#include <lieservo/realtime/latest_value_channel.hpp>
+#include <lieservo/realtime/velocity_smoother.hpp>
+#include <lieservo/realtime/watchdog.hpp>
+#include <lieservo/status.hpp>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+
+namespace lieservo::realtime {
+
+/// The message from the tactile thread to the 1 kHz thread (trivially copyable).
+struct TwistCommand {
+  std::array<double, 6> twist_s{};  ///< sensor body twist [v (library length unit/s); ω (rad/s)]
+  bool in_contact = false;          ///< the tactile thread's contact decision for this frame
+};
+
+struct PipelineOptions {
+  SmootherLimits<double> limits{};   ///< base-frame limits, SI (m, rad); must be valid
+  WatchdogOptions watchdog{};
+  SensorMount mount{};               ///< X_ES with p_ES in METRES
+  double twist_to_metres = 1e-3;     ///< command translation unit → m (library mm → 1e-3)
+  double control_period_s = 1e-3;    ///< the robot's command period (libfranka: 1 ms)
+};
+
+class CartesianVelocityPipeline {
+ public:
+  CartesianVelocityPipeline() noexcept { (void)configure(PipelineOptions{}); }
+
+  /// Validate and apply options; resets the smoother (to rest) and the watchdog.
+  /// Not real-time safe to call while the loop runs (call it before starting the loop).
+  Status configure(const PipelineOptions& o) noexcept {
+    if (!o.limits.valid() || !o.watchdog.valid()) return Status::invalid_argument;
+    const Status m = o.mount.validate();
+    if (m != Status::ok) return m;
+    if (!std::isfinite(o.twist_to_metres) || !std::isfinite(o.control_period_s))
+      return Status::non_finite_input;
+    if (!(o.twist_to_metres > 0)) return Status::invalid_argument;
+    if (!(o.control_period_s > 0)) return Status::invalid_time_step;
+    options_ = o;
+    (void)smoother_.setLimits(o.limits);
+    smoother_.reset();
+    (void)watchdog_.configure(o.watchdog);
+    return Status::ok;
+  }
+  const PipelineOptions& options() const noexcept { return options_; }
+
+  /// One control cycle. `O_T_EE`: the robot's current EE pose (column-major, metres);
+  /// `cmd`/`stamp`: the latest command from the channel (stamp.sequence == 0: none yet);
+  /// `now_ns`: the same clock as the stamps. On success writes the command to `O_dP_EE`.
+  /// Errors (state and output unchanged): a bad pose (poseFromColumnMajor's Status), a
+  /// non-finite twist in an accepted command (non_finite_input). On an error the caller
+  /// should call stepStopping() for this cycle instead.
+  Status step(const std::array<double, 16>& O_T_EE, const TwistCommand& cmd, const ChannelStamp& stamp,
+              std::int64_t now_ns, std::array<double, 6>& O_dP_EE) noexcept {
+    Matrix3 R;
+    Vector3 p;
+    const Status ps = poseFromColumnMajor(O_T_EE, R, p);
+    if (ps != Status::ok) return ps;
+    const Eigen::Map<const Vector6> xi(cmd.twist_s.data());
+    if (stamp.sequence != 0 && !xi.allFinite()) return Status::non_finite_input;
+
+    const double age_s = stamp.sequence == 0 ? 0.0 : 1e-9 * static_cast<double>(now_ns - stamp.time_ns);
+    // A stamp from the future (clock skew) counts as age 0.
+    const Status ws = watchdog_.update(stamp.sequence, age_s < 0 ? 0.0 : age_s, cmd.in_contact);
+    if (ws != Status::ok) return ws;
+
+    Vector6 target = Vector6::Zero();
+    if (watchdog_.passCommands()) target = sensorTwistToBase(R, options_.mount, xi, options_.twist_to_metres);
+    return advance(target, O_dP_EE);
+  }
+
+  /// Convenience: read the newest command from `channel` and step().
+  Status step(const std::array<double, 16>& O_T_EE, LatestValueChannel<TwistCommand>& channel,
+              std::int64_t now_ns, std::array<double, 6>& O_dP_EE) noexcept {
+    TwistCommand cmd;
+    ChannelStamp stamp;
+    if (!channel.read(cmd, stamp)) stamp = ChannelStamp{};
+    return step(O_T_EE, cmd, stamp, now_ns, O_dP_EE);
+  }
+
+  /// A cycle that needs no pose: trips the watchdog (external) and ramps towards zero.
+  /// Use on any error, or to stop. Always ok.
+  Status stepStopping(std::array<double, 6>& O_dP_EE) noexcept {
+    watchdog_.trip();
+    return advance(Vector6::Zero(), O_dP_EE);
+  }
+
+  /// Request a stop (latched until rearm()); subsequent step()s ramp to zero.
+  void requestStop() noexcept { watchdog_.trip(); }
+  /// Clear a latched stop / contact loss; commands pass again after fresh ones arrive.
+  void rearm() noexcept { watchdog_.rearm(); }
+
+  /// Commands are not passing and the commanded velocity is exactly zero.
+  bool stopped() const noexcept { return !watchdog_.passCommands() && smoother_.atRest(); }
+
+  /// Re-synchronise with the robot's last commanded velocity/acceleration (e.g. after an
+  /// error recovery the robot restarts from rest: pass zeros). Checked like
+  /// VelocitySmoother::reset(v, a).
+  Status resync(const Vector6& velocity, const Vector6& acceleration) noexcept {
+    return smoother_.reset(velocity, acceleration);
+  }
+
+  const VelocitySmoother<double>& smoother() const noexcept { return smoother_; }
+  const CommandWatchdog& watchdog() const noexcept { return watchdog_; }
+
+ private:
+  Status advance(const Vector6& target, std::array<double, 6>& out) noexcept {
+    const Status s = smoother_.step(target, options_.control_period_s);
+    if (s != Status::ok) return s;
+    Eigen::Map<Vector6>(out.data()) = smoother_.velocity();
+    return Status::ok;
+  }
+
+  PipelineOptions options_{};
+  VelocitySmoother<double> smoother_{};
+  CommandWatchdog watchdog_{};
+};
+
+}  // namespace lieservo::realtime

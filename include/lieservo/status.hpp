@@ -1,0 +1,43 @@
+// lieservo/status.hpp — the error codes of the real-time path.
+//
+// Functions on the real-time path (filter and controller steps, checked
+// constructors) never throw and never allocate: they return a Status and leave
+// their outputs/state untouched unless the Status is Status::ok.
+#pragma once
+
+namespace lieservo {
+
+enum class Status : int {
+  ok = 0,
+  non_finite_input,      ///< a NaN or infinity in an input
+  not_orthonormal,       ///< a rotation block is not orthonormal (or det != +1)
+  not_spd,               ///< a covariance/information matrix is not symmetric positive-definite
+  invalid_time_step,     ///< dt <= 0 or non-finite
+  not_initialised,       ///< e.g. a filter step before the first observation
+  invalid_argument,      ///< a parameter outside its documented range
+  outlier_rejected,      ///< an observation failed the chi-square gate (state predicted only)
+  not_converged,         ///< an iteration hit its limit before its tolerance
+  numerical_failure,     ///< a factorisation or result became non-finite
+};
+
+/// A short, human-readable description; never allocates.
+constexpr const char* describe(Status s) noexcept {
+  switch (s) {
+    case Status::ok: return "ok";
+    case Status::non_finite_input: return "input contains a non-finite value (NaN or inf)";
+    case Status::not_orthonormal: return "rotation is not orthonormal with determinant +1";
+    case Status::not_spd: return "matrix is not symmetric positive-definite";
+    case Status::invalid_time_step: return "time step must be finite and > 0";
+    case Status::not_initialised: return "not initialised: no first observation yet";
+    case Status::invalid_argument: return "argument outside its documented range";
+    case Status::outlier_rejected: return "observation rejected by the chi-square gate";
+    case Status::not_converged: return "iteration limit reached before tolerance";
+    case Status::numerical_failure: return "numerical failure (factorisation or non-finite result)";
+  }
+  return "unknown status";
+}
+
+/// True when s is Status::ok.
+constexpr bool succeeded(Status s) noexcept { return s == Status::ok; }
+
+}  // namespace lieservo

@@ -1,0 +1,144 @@
+// The small JSON reader of examples/collection: the real parameter files (Infinity literals,
+// the malformed env_params.json) and synthetic malformed inputs (errors name file:line:col).
+#include <catch2/catch.hpp>
+
+#include "dataset_json.hpp"
+#include "test_support.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <string>
+
+using namespace lieservo::collection;
+using Catch::Matchers::Contains;
+
+namespace {
+bool haveFile(const std::string& p) { return std::ifstream(p).good(); }
+
+std::string errorOf(const std::string& text, const std::string& name, JsonParseOptions o = {}) {
+  try {
+    parseJson(text, name, o);
+  } catch (const DatasetError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST_CASE("json: values, nesting, escapes, Infinity/NaN, positions", "[collection][json]") {
+  const std::string text =
+      "{\"a\": 1.5, \"b\": [1, -2e3, 0.25], \"s\": \"x\\\"y\\u00e9\\n\", \"t\": true, \"f\": false,\n"
+      " \"n\": null, \"inf\": [Infinity, -Infinity], \"nan\": NaN, \"o\": {\"k\": []}}";
+  const JsonDocument d = parseJson(text, "mem.json");
+  CHECK(d.number("a") == 1.5);
+  CHECK(d.numbers("b") == std::vector<double>{1, -2000, 0.25});
+  CHECK(d.string("s") == "x\"y\xC3\xA9\n");
+  CHECK(d.boolean("t"));
+  CHECK_FALSE(d.boolean("f"));
+  CHECK(d.member("n").isNull());
+  const auto inf = d.numbers("inf", 2);
+  CHECK(std::isinf(inf[0]));
+  CHECK(inf[0] > 0);
+  CHECK(inf[1] < 0);
+  CHECK(std::isnan(d.number("nan")));
+  CHECK(d.member("o").isObject());
+  CHECK(d.member("n").line == 2);
+  CHECK(d.member("n").column == 7);
+  CHECK(d.warnings.empty());
+  CHECK_THROWS_WITH(d.numbers("b", 6), Contains("mem.json:1:17") && Contains("must have 6 elements"));
+  CHECK_THROWS_WITH(d.number("missing"), Contains("mem.json:1:1") && Contains("missing key \"missing\""));
+}
+
+TEST_CASE("json: malformed inputs give file:line:col errors", "[collection][json]") {
+  struct Case {
+    const char* text;
+    const char* where;
+    const char* what;
+  };
+  const Case cases[] = {
+      {"{\"a\": 1,\n \"b\": [1, 2]]}", "bad.json:2:13", "expected ',' or '}'"},  // the env_params quirk, strict
+      {"{\"a\": 1,\n\n  \"b\" 2}", "bad.json:3:7", "expected ':'"},
+      {"{\"a\": [1, 2,\n 3", "bad.json:2:3", "unexpected end of file"},
+      {"{\"a\": tru}", "bad.json:1:7", "invalid value 'tru'"},
+      {"{\"a\": 01}", "bad.json:1:8", "expected ',' or '}'"},
+      {"{\"a\": \"abc\n\"}", "bad.json:1:11", "unterminated string"},
+      {"{\"a\": 1} x", "bad.json:1:10", "after the top-level value"},
+      {"{a: 1}", "bad.json:1:2", "expected a string key"},
+      {"", "bad.json:1:1", "unexpected end of file"},
+      {"{\"a\": -NaN}", "bad.json:1:7", "-NaN"},
+  };
+  for (const auto& c : cases) {
+    const std::string msg = errorOf(c.text, "bad.json");
+    INFO("input: " << c.text << "\nmessage: " << msg);
+    CHECK_THAT(msg, Contains(c.where) && Contains(c.what));
+  }
+  JsonParseOptions strict;
+  strict.allow_non_finite = false;
+  CHECK_THAT(errorOf("{\"z\": [-Infinity]}", "m.json", strict), Contains("m.json:1:8") && Contains("Infinity"));
+  // repair mode skips an unmatched closer with a warning, still fails on other garbage
+  JsonParseOptions repair;
+  repair.repair_stray_closers = true;
+  const JsonDocument d = parseJson("{\"a\": [1, 2]],\n \"b\": 3}]", "r.json", repair);
+  CHECK(d.numbers("a") == std::vector<double>{1, 2});
+  CHECK(d.number("b") == 3);
+  REQUIRE(d.warnings.size() == 2);
+  CHECK_THAT(d.warnings[0], Contains("r.json:1:13") && Contains("stray ']'"));
+  CHECK_THAT(d.warnings[1], Contains("r.json:2:9"));
+  CHECK_THAT(errorOf("{\"a\": [1 2]}", "r.json", repair), Contains("r.json:1:10"));
+  // nesting limit
+  CHECK_THAT(errorOf(std::string(100, '[') + std::string(100, ']'), "deep.json"), Contains("nesting deeper"));
+}
+
+TEST_CASE("json writer: valid JSON, shortest round trip, non-finite as null", "[collection][json]") {
+  const std::string s = JsonObjectWriter()
+                            .field("x", 0.1)
+                            .field("v", std::vector<double>{0, -25, 0.5, 1e-300, std::nan(""), INFINITY})
+                            .field("s", std::string("q\"\\\n"))
+                            .field("b", true)
+                            .field("n", 6000ULL)
+                            .str();
+  CHECK(s == "{\"x\": 0.1, \"v\": [0, -25, 0.5, 1e-300, null, null], \"s\": \"q\\\"\\\\\\n\", \"b\": true, \"n\": 6000}");
+  JsonParseOptions strict;
+  strict.allow_non_finite = false;
+  const JsonDocument d = parseJson(s, "w.json", strict);
+  CHECK(d.number("x") == 0.1);
+  CHECK(d.string("s") == "q\"\\\n");
+  CHECK(d.member("v").array[4].isNull());
+  CHECK(jsonNumber(5.0) == "5");
+  CHECK(jsonNumber(-0.0) == "0");
+  CHECK(std::stod(jsonNumber(0.1 + 0.2)) == 0.1 + 0.2);
+}
+
+TEST_CASE("json: the real parameter files", "[collection][json][real-data]") {
+  const std::string dir = lieservo::test::dataDir() + "/train";
+  if (!haveFile(dir + "/collect_params.json")) {
+    WARN("SKIPPED: real data not found at " << dir);
+    return;
+  }
+  const JsonDocument cp = readJsonFile(dir + "/collect_params.json");
+  CHECK(cp.numbers("pose_ulims", 6)[3] == 25);
+  CHECK(cp.numbers("shear_llims", 6)[5] == -5);
+  CHECK(cp.boolean("sample_disk"));
+  const JsonDocument meta = readJsonFile(dir + "/meta.json");  // Infinity literals
+  CHECK(std::isinf(meta.numbers("z_shear_rng", 2)[0]));
+  CHECK(meta.number("phi_max") == 25);
+  CHECK(meta.string("robot_axes") == "sxyz");
+  const JsonDocument pp = readJsonFile(dir + "/processed_image_params.json");
+  CHECK(pp.numbers("bbox", 4) == std::vector<double>{105, 20, 550, 460});
+  // env_params.json has an extra ']': strict reading fails naming the file and position,
+  // repair mode reads it with a warning.
+  const std::string env = dir + "/env_params.json";
+  try {
+    readJsonFile(env);
+    FAIL("strict reading of the malformed env_params.json should fail");
+  } catch (const DatasetError& e) {
+    CHECK_THAT(std::string(e.what()), Contains(env + ":1:") && Contains("expected ',' or '}'"));
+  }
+  JsonParseOptions repair;
+  repair.repair_stray_closers = true;
+  const JsonDocument e = readJsonFile(env, repair);
+  CHECK(e.numbers("tcp_pose", 6) == std::vector<double>{0, 0, 72, 0, 0, 225});
+  CHECK(e.string("robot") == "franka");
+  REQUIRE(e.warnings.size() == 1);
+  CHECK_THAT(e.warnings[0], Contains(env + ":1:") && Contains("stray ']'"));
+}

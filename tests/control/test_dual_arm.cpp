@@ -1,0 +1,169 @@
+// DualArmPushing (sec:single_dual_arm_controllers, sec:dual_arm_object_pushing_exp):
+// equivalence with hand-wired filters and controllers, a closed loop with both filters
+// pushing a rigid object (tall-object references), termination, and the Status contract.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <limits>
+
+#include <lieservo/control/dual_arm.hpp>
+#include <lieservo/units.hpp>
+
+using namespace lieservo;
+using G = SE3<double>;
+using V6 = G::Tangent;
+using M6 = G::Jacobian;
+using Filter = DiscriminativeBayesFilter<G>;
+using Dual = DualArmPushing<double>;
+
+namespace {
+V6 v6(double a, double b, double c, double d, double e, double f) {
+  V6 v = V6::Zero();
+  v << a, b, c, d, e, f;
+  return v;
+}
+
+// Observation covariance: 0.2 mm and 0.5° standard deviations.
+M6 obsCov() {
+  V6 s = v6(0.2, 0.2, 0.2, deg2rad(0.5), deg2rad(0.5), deg2rad(0.5));
+  return M6(s.cwiseProduct(s).asDiagonal());
+}
+
+// A deterministic, pseudo-random perturbation of a pose (observation "noise").
+G perturb(const G& X, int k, double scale) {
+  V6 n = V6::Zero();
+  for (int i = 0; i < 6; ++i) n[i] = std::sin(1.7 * k + 2.3 * i) * (i < 3 ? 0.1 : deg2rad(0.2)) * scale;
+  return G::exp(n) * X;
+}
+
+// Rigid object pushed along its leader-face normal.  Leader face {fL} at the object origin,
+// z into the object; follower face {fF} on the opposite side (width 60 mm), z into the object.
+struct Scene {
+  G X_wo = G::identity();
+  G X_ofL = G::identity();
+  G X_ofF = G(SO3<double>::fromEulerXYZ(pi<double>(), 0, 0), Eigen::Vector3d(0, 0, 60));
+  G X_wsL, X_wsF;
+  Scene(const Dual::Options& o) {
+    // start both sensors off their references
+    X_wsL = X_wo * X_ofL * o.leader.servo.reference * G::exp(-v6(1.5, 0, 0, deg2rad(4), 0, 0));
+    X_wsF = X_wo * X_ofF * o.follower.reference * G::exp(-v6(-1, 0, 1.5, deg2rad(-3), 0, 0));
+  }
+  G featureL() const { return X_wsL.inverse() * X_wo * X_ofL; }
+  G featureF() const { return X_wsF.inverse() * X_wo * X_ofF; }
+  void advance(const V6& uL, const V6& uF, double dt, double push_speed) {
+    X_wsL = X_wsL * G::exp(dt * uL);
+    X_wsF = X_wsF * G::exp(dt * uF);
+    X_wo = X_wo * G::exp(dt * v6(0, 0, push_speed, 0, 0, 0));
+  }
+};
+}  // namespace
+
+TEST_CASE("dual arm: equals two hand-wired filter + controller pairs", "[control][dual_arm]") {
+  auto o = dualArmPushingPreset<double>(false);
+  o.leader.target = G(SO3<double>(), Eigen::Vector3d(0, 150, 900));
+  Dual dual(o, Filter(), Filter());
+  REQUIRE(dual.configurationStatus() == Status::ok);
+  Filter fL, fF;
+  PushingController<double> leader(o.leader);
+  TactileServoController<G> follower(o.follower);
+  Scene scene(o);
+  const double dt = 1.0 / 30.0;
+  for (int k = 0; k < 150; ++k) {
+    Dual::ArmInput inL{scene.X_wsL, {perturb(scene.featureL(), k, 1), obsCov()}};
+    Dual::ArmInput inF{scene.X_wsF, {perturb(scene.featureF(), k + 7, 1), obsCov()}};
+    Dual::ArmOutput outL, outF;
+    REQUIRE(dual.step(inL, inF, dt, outL, outF) == Status::ok);
+    // by hand
+    REQUIRE((k == 0 ? fL.reset(inL.observation, inL.sensor_pose) : fL.step(inL.sensor_pose, inL.observation)) ==
+            Status::ok);
+    REQUIRE((k == 0 ? fF.reset(inF.observation, inF.sensor_pose) : fF.step(inF.sensor_pose, inF.observation)) ==
+            Status::ok);
+    V6 uL = V6::Zero(), uF = V6::Zero();
+    REQUIRE(leader.step(fL.filtered().mean, inL.sensor_pose, dt, uL) == Status::ok);
+    REQUIRE(follower.step(fF.filtered().mean, dt, uF) == Status::ok);
+    CHECK(outL.velocity == uL);
+    CHECK(outF.velocity == uF);
+    CHECK(outL.feature_in_sensor.isApprox(fL.filtered().mean, 0));
+    scene.advance(uL, uF, dt, 10.0);
+  }
+}
+
+TEST_CASE("dual arm: closed loop with filters converges to the tall-object references",
+          "[control][dual_arm]") {
+  for (double rate : {30.0, 250.0}) {
+    auto o = dualArmPushingPreset<double>(true);
+    CHECK(o.leader.servo.reference.isApprox(G::fromEulerXYZ6Degrees(v6(0.5, 0, 0, 0, 0, 0)), 1e-15));
+    CHECK(o.follower.reference.isApprox(G::fromEulerXYZ6Degrees(v6(-0.5, 0, 3, 0, 0, 0)), 1e-15));
+    o.leader.target = G(SO3<double>(), Eigen::Vector3d(0, 0, 1e5));  // straight ahead
+    Dual dual(o, Filter(), Filter());
+    Scene scene(o);
+    const double dt = 1.0 / rate;
+    const long n = static_cast<long>(20.0 * rate);
+    Dual::ArmOutput outL, outF;
+    for (long k = 0; k < n; ++k) {
+      Dual::ArmInput inL{scene.X_wsL, {perturb(scene.featureL(), int(k), 0.2), obsCov()}};
+      Dual::ArmInput inF{scene.X_wsF, {perturb(scene.featureF(), int(k) + 3, 0.2), obsCov()}};
+      REQUIRE(dual.step(inL, inF, dt, outL, outF) == Status::ok);
+      scene.advance(outL.velocity, outF.velocity, dt, 10.0);
+    }
+    // controlled channels: leader x, α (Table 8 PID 1); follower x, z, α (Table 9)
+    const V6 eL = (scene.featureL() * o.leader.servo.reference).log();
+    const V6 eF = (scene.featureF() * o.follower.reference).log();
+    INFO("rate " << rate << " Hz, leader e = " << eL.transpose() << ", follower e = " << eF.transpose());
+    CHECK(std::abs(eL[0]) < 0.1);
+    CHECK(std::abs(eL[3]) < deg2rad(0.3));
+    CHECK(std::abs(eF[0]) < 0.1);
+    CHECK(std::abs(eF[2]) < 0.1);
+    CHECK(std::abs(eF[3]) < deg2rad(0.3));
+    CHECK_FALSE(dual.terminated());
+  }
+}
+
+TEST_CASE("dual arm: termination stops both arms", "[control][dual_arm]") {
+  auto o = dualArmPushingPreset<double>(false);
+  Scene scene(o);
+  o.leader.target = scene.X_wsL * G(SO3<double>(), Eigen::Vector3d(0, 3, 10));  // within 20 mm
+  Dual dual(o, Filter(), Filter());
+  Dual::ArmInput inL{scene.X_wsL, {scene.featureL(), obsCov()}};
+  Dual::ArmInput inF{scene.X_wsF, {scene.featureF(), obsCov()}};
+  Dual::ArmOutput outL, outF;
+  outF.velocity.setOnes();
+  REQUIRE(dual.step(inL, inF, 0.05, outL, outF) == Status::ok);
+  CHECK(dual.terminated());
+  CHECK(outL.velocity.isZero());
+  CHECK(outF.velocity.isZero());
+}
+
+TEST_CASE("dual arm: failures leave filters, controllers and outputs unchanged", "[control][dual_arm]") {
+  auto o = dualArmPushingPreset<double>(false);
+  o.leader.target = G(SO3<double>(), Eigen::Vector3d(0, 100, 800));
+  Dual dual(o, Filter(), Filter());
+  Scene scene(o);
+  Dual::ArmOutput outL, outF;
+  for (int k = 0; k < 3; ++k) {
+    Dual::ArmInput inL{scene.X_wsL, {scene.featureL(), obsCov()}};
+    Dual::ArmInput inF{scene.X_wsF, {scene.featureF(), obsCov()}};
+    REQUIRE(dual.step(inL, inF, 0.05, outL, outF) == Status::ok);
+    scene.advance(outL.velocity, outF.velocity, 0.05, 10);
+  }
+  const V6 uL0 = outL.velocity, uF0 = outF.velocity;
+  const G filL0 = dual.leaderFilter().filtered().mean, filF0 = dual.followerFilter().filtered().mean;
+  const V6 iL0 = dual.leader().servo().pid().integral(), iF0 = dual.follower().pid().integral();
+  Dual::ArmInput inL{scene.X_wsL, {scene.featureL(), obsCov()}};
+  Dual::ArmInput inF{scene.X_wsF, {scene.featureF(), obsCov()}};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  CHECK(dual.step(inL, inF, 0.0, outL, outF) == Status::invalid_time_step);
+  CHECK(dual.step(inL, inF, nan, outL, outF) == Status::invalid_time_step);
+  // the follower's observation is bad: the leader filter already stepped must be rolled back
+  Dual::ArmInput badF = inF;
+  badF.observation.covariance(2, 2) = nan;
+  CHECK(dual.step(inL, badF, 0.05, outL, outF) != Status::ok);
+  CHECK(outL.velocity == uL0);
+  CHECK(outF.velocity == uF0);
+  CHECK(dual.leaderFilter().filtered().mean.isApprox(filL0, 0));
+  CHECK(dual.followerFilter().filtered().mean.isApprox(filF0, 0));
+  CHECK(dual.leader().servo().pid().integral() == iL0);
+  CHECK(dual.follower().pid().integral() == iF0);
+  // and the next good step works
+  CHECK(dual.step(inL, inF, 0.05, outL, outF) == Status::ok);
+}

@@ -1,0 +1,108 @@
+// SO(3): group axioms, exp/log round trips (random and named hard cases), adjoint, Jacobians,
+// series inverse Jacobian, BCH, interpolation, checked construction, sampling.
+#include "group_properties.hpp"
+
+using lieservo::SO3;
+
+TEMPLATE_TEST_CASE("SO3 group axioms", "[core][so3]", float, double) { lst::checkAxioms<SO3<TestType>>(2000); }
+
+TEMPLATE_TEST_CASE("SO3 exp/log round trips on 1e5 random samples", "[core][so3]", float, double) {
+  lst::checkRoundTrips<SO3<TestType>>(100000, 0.0);
+}
+
+TEMPLATE_TEST_CASE("SO3 exp/log named hard cases", "[core][so3]", float, double) {
+  lst::checkHardCases<SO3<TestType>>();
+}
+
+TEMPLATE_TEST_CASE("SO3 adjoint and ad", "[core][so3]", float, double) { lst::checkAdjoint<SO3<TestType>>(2000); }
+
+TEMPLATE_TEST_CASE("SO3 Jacobian identities", "[core][so3]", float, double) {
+  lst::checkJacobianIdentities<SO3<TestType>>(2000);
+}
+
+TEST_CASE("SO3 Jacobians against central differences", "[core][so3]") {
+  lst::checkNumericalJacobians<lieservo::SO3d>(300);
+}
+
+TEST_CASE("SO3 float agrees with double", "[core][so3]") { lst::checkFloatAgainstDouble<SO3>(2000); }
+
+TEST_CASE("SO3 series inverse Jacobian converges to the closed form", "[core][so3]") {
+  lst::checkSeriesConvergence<lieservo::SO3d>("SO3");
+}
+
+TEST_CASE("SO3 BCH approximations have O(|xi_small|^2) error", "[core][so3]") { lst::checkBch<lieservo::SO3d>(); }
+
+TEMPLATE_TEST_CASE("SO3 interpolation", "[core][so3]", float, double) { lst::checkInterpolate<SO3<TestType>>(500); }
+
+TEMPLATE_TEST_CASE("SO3 checked construction", "[core][so3]", float, double) {
+  lst::checkCheckedConstruction<SO3<TestType>>();
+}
+
+TEMPLATE_TEST_CASE("SO3 sampling and cast", "[core][so3]", float, double) {
+  lst::checkSamplingAndCast<SO3<TestType>>();
+}
+
+TEMPLATE_TEST_CASE("SO3 log near and at pi", "[core][so3]", float, double) {
+  using S = TestType;
+  using G = SO3<S>;
+  using V = typename G::Tangent;
+  const double eps = lst::epsOf<S>();
+  // Exactly symmetric half-turn matrices (w = 0): the sign rule makes the largest-magnitude
+  // axis component positive.
+  const V axes[] = {V(1, 0, 0), V(0, -1, 0), V(0, 0, -1), V(-1, -2, 2).normalized(), V(3, -1, -2).normalized()};
+  for (const V& a : axes) {
+    const typename G::Matrix C = S(2) * a * a.transpose() - G::Matrix::Identity();  // exactly symmetric
+    const V phi = G::fromMatrixUnchecked(C).log();
+    INFO("axis " << a.transpose() << " log " << phi.transpose());
+    CHECK(std::abs(static_cast<double>(phi.norm()) - 3.14159265358979323846) <= 8 * eps);
+    int k = 0;
+    for (int i = 1; i < 3; ++i)
+      if (std::abs(a(i)) > std::abs(a(k))) k = i;
+    const V expect = (a(k) > S(0) ? S(1) : S(-1)) * lieservo::pi<S>() * a;
+    CHECK(static_cast<double>((phi - expect).norm()) <= 16 * eps);
+  }
+  // π − 10^-k about random axes: the angle and axis come back to a few ulps.
+  std::mt19937_64 rng(5);
+  for (int k = 1; k <= 12; ++k) {
+    const double angle = 3.14159265358979323846 - std::pow(10.0, -k);
+    if (static_cast<double>(S(angle)) >= 3.14159265358979323846) continue;
+    const V xi = lst::tangentWithAngle<G>(rng, angle, 0.0);
+    const V back = G::exp(xi).log();
+    INFO("pi - 1e-" << k << ": " << (back - xi).norm());
+    CHECK(lst::nearPiError<G>(back, xi) <= 16 * eps);
+  }
+}
+
+TEMPLATE_TEST_CASE("SO3 log with trace rounded past 3 or -1", "[core][so3]", float, double) {
+  using S = TestType;
+  using G = SO3<S>;
+  using M = typename G::Matrix;
+  const S e = Eigen::NumTraits<S>::epsilon();
+  // trace slightly above 3
+  M C = M::Identity() * (S(1) + S(2) * e);
+  typename G::Tangent phi = G::fromMatrixUnchecked(C).log();
+  CHECK(phi.allFinite());
+  CHECK(static_cast<double>(phi.norm()) <= 4 * lst::epsOf<S>());
+  // tiny rotation with trace rounding to 3 exactly
+  C = G::exp(typename G::Tangent(S(1e-9), S(0), S(0))).matrix();
+  phi = G::fromMatrixUnchecked(C).log();
+  CHECK(static_cast<double>(std::abs(phi(0) - S(1e-9))) <= 1e-9 * 4 * lst::epsOf<S>() + 1e-30);
+  // half turn with trace slightly below −1
+  C << S(1) + e, S(0), S(0), S(0), -S(1) - e, S(0), S(0), S(0), -S(1) - e;
+  phi = G::fromMatrixUnchecked(C).log();
+  CHECK(phi.allFinite());
+  CHECK(std::abs(static_cast<double>(phi.norm()) - 3.14159265358979323846) <= 8 * lst::epsOf<S>());
+  CHECK(static_cast<double>(phi(0)) > 0);
+}
+
+TEST_CASE("SO3 closed forms match hand-computed values", "[core][so3]") {
+  using G = lieservo::SO3d;
+  // Rz(90°) maps x to y.
+  const G R = G::exp(Eigen::Vector3d(0, 0, M_PI / 2));
+  CHECK((R * Eigen::Vector3d(1, 0, 0) - Eigen::Vector3d(0, 1, 0)).norm() <= 1e-15);
+  // J(φ) for φ = (0, 0, θ): [[s/θ, −(1−c)/θ, 0], [(1−c)/θ, s/θ, 0], [0, 0, 1]].
+  const double t = 0.7;
+  Eigen::Matrix3d Jexp;
+  Jexp << std::sin(t) / t, -(1 - std::cos(t)) / t, 0, (1 - std::cos(t)) / t, std::sin(t) / t, 0, 0, 0, 1;
+  CHECK((G::leftJacobian(Eigen::Vector3d(0, 0, t)) - Jexp).norm() <= 1e-15);
+}

@@ -1,0 +1,103 @@
+// Helpers shared by the estimation tests (random SPD covariances, tangents, Euclidean
+// reference computations). Header-only; each test executable includes it once.
+#pragma once
+
+#include <cmath>
+#include <random>
+
+#include <Eigen/Dense>
+
+#include <lieservo/estimation.hpp>
+#include <lieservo/groups.hpp>
+
+namespace lieservo::est_test {
+
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+
+template <class Vec, class Rng>
+Vec randn(Rng& rng, double scale = 1.0) {
+  std::normal_distribution<double> n01(0.0, 1.0);
+  Vec v;
+  for (Eigen::Index i = 0; i < v.size(); ++i) v.data()[i] = typename Vec::Scalar(scale * n01(rng));
+  return v;
+}
+
+inline double uniform(std::mt19937_64& rng, double lo, double hi) {
+  return std::uniform_real_distribution<double>(lo, hi)(rng);
+}
+
+/// A random orthogonal matrix (QR of a Gaussian matrix).
+template <int N>
+Eigen::Matrix<double, N, N> randomOrthogonal(std::mt19937_64& rng) {
+  const Eigen::Matrix<double, N, N> A = randn<Eigen::Matrix<double, N, N>>(rng);
+  Eigen::HouseholderQR<Eigen::Matrix<double, N, N>> qr(A);
+  return qr.householderQ();
+}
+
+/// Realistic per-component standard deviations for group G: translations σ ∈ [t_lo, t_hi]
+/// (mm), rotations σ ∈ [r_lo, r_hi] (degrees, returned in radians).
+template <class G>
+typename G::Tangent realisticSigma(std::mt19937_64& rng, double t_lo = 0.1, double t_hi = 1.0,
+                                   double r_lo_deg = 0.5, double r_hi_deg = 2.0) {
+  constexpr int R = est_detail::rotationDoF<G>();
+  typename G::Tangent s;
+  for (int i = 0; i < G::DoF; ++i)
+    s[i] = typename G::Scalar(i < G::DoF - R ? uniform(rng, t_lo, t_hi)
+                                             : uniform(rng, r_lo_deg, r_hi_deg) * kDeg);
+  return s;
+}
+
+/// A random SPD covariance with the given per-component standard deviations and random
+/// correlations (correlation matrix from a random orthogonal basis with eigenvalues in
+/// [0.2, 1.8]).
+template <class G>
+typename G::Jacobian correlatedCovariance(std::mt19937_64& rng, const typename G::Tangent& sigma) {
+  constexpr int D = G::DoF;
+  const Eigen::Matrix<double, D, D> Q = randomOrthogonal<D>(rng);
+  Eigen::Matrix<double, D, 1> ev;
+  for (int i = 0; i < D; ++i) ev[i] = uniform(rng, 0.2, 1.8);
+  Eigen::Matrix<double, D, D> C = Q * ev.asDiagonal() * Q.transpose();
+  const Eigen::Matrix<double, D, 1> d = C.diagonal().cwiseSqrt().cwiseInverse();
+  C = d.asDiagonal() * C * d.asDiagonal();  // correlation matrix
+  const Eigen::Matrix<double, D, 1> s = sigma.template cast<double>();
+  Eigen::Matrix<double, D, D> S = s.asDiagonal() * C * s.asDiagonal();
+  S = 0.5 * (S + S.transpose()).eval();
+  return S.template cast<typename G::Scalar>();
+}
+
+/// Sample from a concentrated Gaussian in double.
+template <class G>
+ConcentratedGaussian<G> randomFactor(std::mt19937_64& rng, const G& centre,
+                                     const typename G::Tangent& sigma) {
+  ConcentratedGaussian<G> f;
+  f.covariance = correlatedCovariance<G>(rng, sigma);
+  // Draw the mean from the factor's own distribution around `centre` (so factors disagree
+  // by about one standard deviation, as a prediction and an observation typically do).
+  const ConcentratedGaussian<G> around(centre, f.covariance);
+  f.mean = sample(around, rng);
+  return f;
+}
+
+/// Tangent distance of two group elements in the left perturbation: ln(A B⁻¹).
+template <class G>
+typename G::Tangent leftDifference(const G& A, const G& B) {
+  return (A * B.inverse()).log();
+}
+
+/// Mahalanobis length of a tangent vector under covariance S.
+template <class Vec, class Mat>
+double mahalanobis(const Vec& v, const Mat& S) {
+  const Eigen::Matrix<double, Vec::RowsAtCompileTime, 1> vd = v.template cast<double>();
+  const Eigen::Matrix<double, Mat::RowsAtCompileTime, Mat::ColsAtCompileTime> Sd =
+      S.template cast<double>();
+  return std::sqrt(vd.dot(Sd.ldlt().solve(vd)));
+}
+
+/// Relative Frobenius difference ‖A − B‖/‖B‖.
+template <class MA, class MB>
+double relDiff(const MA& A, const MB& B) {
+  return (A.template cast<double>() - B.template cast<double>()).norm() /
+         B.template cast<double>().norm();
+}
+
+}  // namespace lieservo::est_test

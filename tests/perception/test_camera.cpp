@@ -1,0 +1,105 @@
+// TactileCamera on image sequences (real processed images, synthetic raw frames) and on
+// sources that do not exist.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <string>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "lieservo_adapters/camera.hpp"
+#include "perception_test_util.hpp"
+#include "synthetic_frames.hpp"
+
+using namespace lieservo::adapters;
+
+TEST_CASE("camera: image sequence of real processed images", "[perception][camera][data]") {
+  const std::string src = std::string(LIESERVO_DATA_DIR) + "/val/processed_images";
+  if (!perception_test::exists(src + "/image_1.png")) {
+    WARN("TacTip data not found under " << LIESERVO_DATA_DIR << ": skipping");
+    return;
+  }
+  const std::string dir = perception_test::makeTempDir("cam");
+  const int n = 5;
+  for (int i = 1; i <= n; ++i)
+    std::filesystem::copy_file(src + "/image_" + std::to_string(i) + ".png",
+                               dir + "/image_" + std::to_string(i) + ".png");
+  const Preprocessor pre;
+  CameraOptions opt;
+  opt.input = FrameInput::processed;
+  TactileCamera cam(dir + "/image_%d.png", pre, opt);
+  CHECK_FALSE(cam.isLive());
+  auto last = std::chrono::steady_clock::time_point::min();
+  for (int i = 1; i <= n; ++i) {
+    auto f = cam.next();
+    REQUIRE(f.ok());
+    CHECK(f->index == static_cast<std::uint64_t>(i - 1));
+    CHECK(f->stamp >= last);
+    last = f->stamp;
+    REQUIRE(f->image.size() == cv::Size(128, 128));
+    // The same network input as reading the file directly.
+    auto direct = pre.loadProcessed(dir + "/image_" + std::to_string(i) + ".png");
+    REQUIRE(direct.ok());
+    CHECK(cv::norm(f->image, *direct, cv::NORM_INF) == 0.0);
+  }
+  auto end = cam.next();
+  REQUIRE_FALSE(end.ok());
+  CHECK(end.error().code == ErrorCode::end_of_stream);
+  CHECK(end.error().message.find("after 5 frames") != std::string::npos);
+  CHECK(cam.framesDelivered() == 5u);
+
+  // The same processed images treated as raw camera frames: clear size error, not a crash.
+  TactileCamera as_raw(dir + "/image_%d.png", pre);
+  auto wrong = as_raw.next();
+  REQUIRE_FALSE(wrong.ok());
+  CHECK(wrong.error().code == ErrorCode::wrong_size);
+  CHECK(wrong.error().message.find("640x480") != std::string::npos);
+  perception_test::removeTree(dir);
+}
+
+TEST_CASE("camera: image sequence of synthetic raw frames", "[perception][camera]") {
+  const std::string dir = perception_test::makeTempDir("camraw");
+  const Preprocessor pre;
+  for (int i = 0; i < 3; ++i) cv::imwrite(dir + "/frame_" + std::to_string(i) + ".png", perception_test::makeRawFrame(3 * i).bgr);
+  TactileCamera cam(dir + "/frame_%d.png", pre);
+  for (int i = 0; i < 3; ++i) {
+    auto f = cam.next();
+    REQUIRE(f.ok());
+    CHECK(f->raw.size() == cv::Size(640, 480));
+    auto expected = pre.processRaw(perception_test::makeRawFrame(3 * i).bgr);
+    REQUIRE(expected.ok());
+    CHECK(cv::norm(f->image, *expected, cv::NORM_INF) == 0.0);
+  }
+  CHECK(cam.next().error().code == ErrorCode::end_of_stream);
+  // Once ended it stays ended.
+  CHECK(cam.next().error().code == ErrorCode::end_of_stream);
+
+  // The same source treated as a live camera: running out of frames is a lost camera.
+  CameraOptions live;
+  live.force_live = true;
+  TactileCamera lost(dir + "/frame_%d.png", pre, live);
+  CHECK(lost.isLive());
+  for (int i = 0; i < 3; ++i) REQUIRE(lost.next().ok());
+  auto gone = lost.next();
+  REQUIRE_FALSE(gone.ok());
+  CHECK(gone.error().code == ErrorCode::camera_lost);
+  CHECK(gone.error().message.find("camera lost") != std::string::npos);
+  CHECK(gone.error().message.find("after 3 frames") != std::string::npos);
+  CHECK(lost.next().error().code == ErrorCode::camera_lost);
+  perception_test::removeTree(dir);
+}
+
+TEST_CASE("camera: missing sources throw at set-up with the path", "[perception][camera]") {
+  const Preprocessor pre;
+  CHECK_THROWS_WITH(TactileCamera("/nonexistent/dir/image_%d.png", pre), Catch::Contains("/nonexistent/dir/image_%d.png"));
+  CHECK_THROWS_WITH(TactileCamera("/nonexistent/video.mp4", pre), Catch::Contains("cannot open"));
+  CHECK_THROWS_WITH(TactileCamera(std::string(), pre), Catch::Contains("empty source path"));
+  const std::string dir = perception_test::makeTempDir("camempty");
+  CHECK_THROWS(TactileCamera(dir + "/image_%d.png", pre));  // pattern matches nothing
+  perception_test::removeTree(dir);
+  CameraOptions processed;
+  processed.input = FrameInput::processed;
+  CHECK_THROWS_WITH(TactileCamera(0, pre, processed), Catch::Contains("raw frames"));
+  // A device index with no camera behind it.
+  CHECK_THROWS_WITH(TactileCamera(97, pre), Catch::Contains("camera device 97"));
+}

@@ -1,0 +1,56 @@
+// The real GDN (examples/gdn/models/gdn.onnx) run from C++ (pre-processing + cv::dnn)
+// on the first validation images matches the PyTorch outputs recorded by
+// examples/gdn/export_onnx.py (gdn_reference_outputs.csv) within 1e-4 (relative to
+// max(1, |value|)). Skipped with a message until the model and the data exist.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "lieservo_adapters/onnx_pose_model.hpp"
+#include "lieservo_adapters/preprocessing.hpp"
+#include "perception_test_util.hpp"
+
+using namespace lieservo::adapters;
+
+TEST_CASE("gdn: C++ inference on real images matches the recorded PyTorch outputs", "[perception][onnx][data][gdn]") {
+  const std::string models = LIESERVO_GDN_MODELS_DIR;
+  const std::string val = std::string(LIESERVO_DATA_DIR) + "/val";
+  const std::string card = models + "/model_card.json", csv = models + "/gdn_reference_outputs.csv";
+  if (!perception_test::exists(models + "/gdn.onnx") || !perception_test::exists(card) ||
+      !perception_test::exists(csv)) {
+    WARN("real GDN not exported yet (" << models << "/{gdn.onnx,model_card.json,gdn_reference_outputs.csv}): skipping");
+    return;
+  }
+  if (!perception_test::exists(val + "/processed_images/image_1.png")) {
+    WARN("TacTip data not found under " << LIESERVO_DATA_DIR << ": skipping");
+    return;
+  }
+  const Preprocessor pre(PreprocessParams::fromJsonFile(val + "/processed_image_params.json"));
+  OnnxPoseModel gdn = OnnxPoseModel::fromCard(card, ModelKind::gdn);
+  const auto rows = perception_test::readCsv(csv);
+  REQUIRE(rows.size() >= 2);
+  REQUIRE(rows[0].size() == 13);
+  int checked = 0;
+  double worst = 0.0;
+  for (std::size_t r = 1; r < rows.size(); ++r) {
+    const auto& row = rows[r];
+    REQUIRE(row.size() == 13);
+    auto img = pre.loadProcessed(val + "/processed_images/" + row[0]);
+    REQUIRE(img.ok());
+    auto p = gdn.predict(*img);
+    REQUIRE(p.ok());
+    for (std::size_t j = 0; j < 12; ++j) {
+      const double ref = std::stod(row[j + 1]);
+      const double err = std::fabs(p->raw[j] - ref) / std::max(1.0, std::fabs(ref));
+      worst = std::max(worst, err);
+      INFO(row[0] << " output " << j << ": C++ " << p->raw[j] << " vs PyTorch " << ref);
+      CHECK(err <= 1e-4);
+    }
+    ++checked;
+  }
+  CHECK(checked >= 8);
+  INFO("worst relative difference " << worst);
+  SUCCEED();
+}

@@ -1,0 +1,189 @@
+// The ONNX pose-model adapter on the tiny committed test models
+// (tests/perception/data/make_tiny_model.py): cv::dnn against the PyTorch reference,
+// unit conversion from the model card, batch = singles, and error paths.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "lieservo_adapters/gdn_observation.hpp"
+#include "lieservo_adapters/onnx_pose_model.hpp"
+#include "perception_test_util.hpp"
+
+using namespace lieservo::adapters;
+
+namespace {
+
+const std::string kData = LIESERVO_PERCEPTION_TEST_DATA;
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+
+/// Same synthetic inputs as make_tiny_model.py.
+cv::Mat syntheticInput(int k) {
+  cv::Mat m(128, 128, CV_32F);
+  for (int i = 0; i < 128; ++i)
+    for (int j = 0; j < 128; ++j)
+      m.at<float>(i, j) = static_cast<float>((0.4 + 0.3 * k) * (((i * (7 + k) + j * 13 + 3 * k) % 17) / 16.0));
+  return m;
+}
+
+std::vector<double> reference(const std::string& model, int k) {
+  for (const auto& row : perception_test::readCsv(kData + "/tiny_reference.csv")) {
+    if (row.size() < 3 || row[0] != model || row[1] != std::to_string(k)) continue;
+    std::vector<double> v;
+    for (std::size_t i = 2; i < row.size(); ++i) v.push_back(std::stod(row[i]));
+    return v;
+  }
+  return {};
+}
+
+}  // namespace
+
+TEST_CASE("onnx: model card parsing", "[perception][onnx]") {
+  const ModelCard g = ModelCard::fromJsonFile(kData + "/tiny_model_card.json", ModelKind::gdn);
+  CHECK(g.outputs == 12);
+  CHECK(g.input_size == 128);
+  CHECK(g.onnx_file == kData + "/tiny_gdn.onnx");
+  CHECK(g.units[0] == "mm");
+  CHECK(g.units[5] == "deg");
+  CHECK(g.to_library[2] == 1.0);
+  CHECK(g.to_library[3] == Approx(kDeg));
+  const ModelCard c = ModelCard::fromJsonFile(kData + "/tiny_model_card.json", ModelKind::cnn);
+  CHECK(c.outputs == 6);
+  CHECK(c.to_library[4] == Approx(kDeg));
+
+  const std::string dir = perception_test::makeTempDir("card");
+  const std::string flat = dir + "/card.json";
+  std::ofstream(flat) << R"({"kind": "gdn", "input_size": 128, "outputs": 12, "file": "m.onnx",
+                             "output_units": ["mm", "mm", "mm", "rad", "rad", "rad"]})";
+  const ModelCard f = ModelCard::fromJsonFile(flat, ModelKind::gdn);
+  CHECK(f.to_library[3] == 1.0);
+  CHECK(f.onnx_file == dir + "/m.onnx");
+  CHECK_THROWS_WITH(ModelCard::fromJsonFile(flat, ModelKind::cnn), Catch::Contains("not \"cnn\""));
+
+  std::ofstream(flat) << R"({"kind": "gdn", "input_size": 128, "outputs": 12, "output_units": ["mm", "mm", "mm", "furlong", "rad", "rad"]})";
+  CHECK_THROWS_WITH(ModelCard::fromJsonFile(flat, ModelKind::gdn), Catch::Contains("furlong"));
+  std::ofstream(flat) << R"({"kind": "gdn", "input_size": 128, "outputs": 6, "output_units": ["mm", "mm", "mm", "deg", "deg", "deg"]})";
+  CHECK_THROWS_WITH(ModelCard::fromJsonFile(flat, ModelKind::gdn), Catch::Contains("12 outputs"));
+  std::ofstream(flat) << R"({"models": {"cnn": {}}})";
+  CHECK_THROWS_WITH(ModelCard::fromJsonFile(flat, ModelKind::gdn), Catch::Contains("models.gdn"));
+  std::ofstream(flat) << R"({"models": {"gdn": {"file": "x.onnx", "input": {"shape": ["N", 1, 128, 128]}}}})";
+  CHECK_THROWS_WITH(ModelCard::fromJsonFile(flat, ModelKind::gdn), Catch::Contains("missing key \"output\""));
+  std::ofstream(flat) << "{\"models\": {\"gdn\": ";
+  CHECK_THROWS_WITH(ModelCard::fromJsonFile(flat, ModelKind::gdn), Catch::Contains(flat + ":1:"));
+  CHECK_THROWS_WITH(ModelCard::fromJsonFile(dir + "/none.json", ModelKind::gdn), Catch::Contains("cannot open"));
+  perception_test::removeTree(dir);
+}
+
+TEST_CASE("onnx: tiny GDN through cv::dnn matches PyTorch and converts units", "[perception][onnx]") {
+  OnnxPoseModel gdn = OnnxPoseModel::fromCard(kData + "/tiny_model_card.json", ModelKind::gdn);
+  REQUIRE(gdn.hasUncertainty());
+  std::vector<cv::Mat> batch;
+  for (int k = 0; k < 3; ++k) batch.push_back(syntheticInput(k));
+  auto all = gdn.predictBatch(batch);
+  REQUIRE(all.ok());
+  REQUIRE(all->size() == 3);
+  for (int k = 0; k < 3; ++k) {
+    const auto ref = reference("gdn", k);
+    REQUIRE(ref.size() == 12);
+    const Prediction& p = (*all)[static_cast<std::size_t>(k)];
+    CHECK(p.has_uncertainty);
+    for (std::size_t j = 0; j < 12; ++j) CHECK(p.raw[j] == Approx(ref[j]).margin(1e-5));
+    for (int j = 0; j < 6; ++j) {
+      const double f = j < 3 ? 1.0 : kDeg;  // the card: mm, mm, mm, deg, deg, deg
+      CHECK(p.mu(j) == Approx(ref[static_cast<std::size_t>(j)] * f).margin(1e-7));
+      CHECK(p.sigma(j) == Approx(f / ref[static_cast<std::size_t>(6 + j)]).epsilon(1e-5));
+      CHECK(p.precisionSqrt()(j) == Approx(ref[static_cast<std::size_t>(6 + j)] / f).epsilon(1e-5));
+    }
+    // Single-image path = batch path.
+    auto one = gdn.predict(batch[static_cast<std::size_t>(k)]);
+    REQUIRE(one.ok());
+    for (std::size_t j = 0; j < 12; ++j) CHECK(one->raw[j] == Approx(p.raw[j]).margin(1e-6));
+  }
+  // An 8-bit input is scaled by 1/255 first.
+  cv::Mat u8;
+  batch[2].convertTo(u8, CV_8U, 255.0);
+  cv::Mat back;
+  u8.convertTo(back, CV_32F, 1.0 / 255.0);
+  auto a = gdn.predict(u8), b = gdn.predict(back);
+  REQUIRE(a.ok());
+  REQUIRE(b.ok());
+  for (std::size_t j = 0; j < 12; ++j) CHECK(a->raw[j] == Approx(b->raw[j]).margin(1e-6));
+}
+
+TEST_CASE("onnx: tiny CNN regression mode returns mu only", "[perception][onnx]") {
+  OnnxPoseModel cnn = OnnxPoseModel::fromCard(kData + "/tiny_model_card.json", ModelKind::cnn);
+  CHECK_FALSE(cnn.hasUncertainty());
+  for (int k = 0; k < 3; ++k) {
+    auto p = cnn.predict(syntheticInput(k));
+    REQUIRE(p.ok());
+    CHECK_FALSE(p->has_uncertainty);
+    const auto ref = reference("cnn", k);
+    REQUIRE(ref.size() == 6);
+    for (int j = 0; j < 6; ++j) {
+      CHECK(p->raw[static_cast<std::size_t>(j)] == Approx(ref[static_cast<std::size_t>(j)]).margin(1e-5));
+      CHECK(p->mu(j) == Approx(ref[static_cast<std::size_t>(j)] * (j < 3 ? 1.0 : kDeg)).margin(1e-7));
+      CHECK(p->sigma(j) < 0.0);
+    }
+  }
+}
+
+TEST_CASE("onnx: wrong inputs and missing or malformed models give clear errors", "[perception][onnx]") {
+  OnnxPoseModel gdn = OnnxPoseModel::fromCard(kData + "/tiny_model_card.json", ModelKind::gdn);
+  auto r1 = gdn.predict(cv::Mat::zeros(440, 445, CV_32F));
+  REQUIRE_FALSE(r1.ok());
+  CHECK(r1.error().code == ErrorCode::wrong_size);
+  CHECK(r1.error().message.find("128x128") != std::string::npos);
+  auto r2 = gdn.predict(cv::Mat::zeros(128, 128, CV_32FC3));
+  REQUIRE_FALSE(r2.ok());
+  CHECK(r2.error().code == ErrorCode::wrong_type);
+  auto r3 = gdn.predict(cv::Mat());
+  REQUIRE_FALSE(r3.ok());
+  CHECK(r3.error().code == ErrorCode::empty_image);
+  auto r4 = gdn.predictBatch({});
+  REQUIRE_FALSE(r4.ok());
+  CHECK(r4.error().code == ErrorCode::invalid_argument);
+  auto r5 = gdn.predict(cv::Mat::zeros(128, 128, CV_64F));
+  REQUIRE_FALSE(r5.ok());
+  CHECK(r5.error().code == ErrorCode::wrong_type);
+  auto r6 = gdn.predictBatch({syntheticInput(0), cv::Mat::zeros(64, 64, CV_32F)});
+  REQUIRE_FALSE(r6.ok());
+  CHECK(r6.error().message.find("input image 1") != std::string::npos);
+
+  const ModelCard card = ModelCard::fromJsonFile(kData + "/tiny_model_card.json", ModelKind::gdn);
+  CHECK_THROWS_WITH(OnnxPoseModel("/nonexistent/gdn.onnx", card), Catch::Contains("not found"));
+  const std::string dir = perception_test::makeTempDir("onnx");
+  std::ofstream(dir + "/garbage.onnx") << "definitely not a protobuf";
+  CHECK_THROWS_WITH(OnnxPoseModel(dir + "/garbage.onnx", card), Catch::Contains(dir + "/garbage.onnx"));
+  // A CNN file loaded with a GDN card: output-count mismatch caught at load.
+  CHECK_THROWS_WITH(OnnxPoseModel(kData + "/tiny_cnn.onnx", card), Catch::Contains("does not match its card"));
+  perception_test::removeTree(dir);
+}
+
+TEST_CASE("onnx: a GDN prediction as the SE(3) observation Gaussian (eq:se3_inverse_transform)",
+          "[perception][onnx][estimation]") {
+  OnnxPoseModel gdn = OnnxPoseModel::fromCard(kData + "/tiny_model_card.json", ModelKind::gdn);
+  auto p = gdn.predict(syntheticInput(1));
+  REQUIRE(p.ok());
+  lieservo::ConcentratedGaussian<lieservo::SE3d> obs;
+  REQUIRE(toObservation(*p, obs) == lieservo::Status::ok);
+  const lieservo::SE3d::Tangent mu = p->mu;
+  CHECK(obs.mean.isApprox(lieservo::SE3d::exp(mu), 1e-12));
+  const lieservo::SE3d::Jacobian J = lieservo::SE3d::leftJacobian(mu);
+  const lieservo::SE3d::Jacobian S = p->sigma.array().square().matrix().asDiagonal();
+  CHECK((obs.covariance - J * S * J.transpose()).norm() <= 1e-12 * S.norm());
+  CHECK(obs.validate() == lieservo::Status::ok);
+
+  // A CNN prediction has no σ: refused, output untouched.
+  OnnxPoseModel cnn = OnnxPoseModel::fromCard(kData + "/tiny_model_card.json", ModelKind::cnn);
+  auto c = cnn.predict(syntheticInput(1));
+  REQUIRE(c.ok());
+  const auto before = obs;
+  CHECK(toObservation(*c, obs) == lieservo::Status::invalid_argument);
+  CHECK(obs.mean.isApprox(before.mean, 0.0));
+  // A non-positive σ: not_spd.
+  Prediction bad = *p;
+  bad.sigma(2) = 0.0;
+  CHECK(toObservation(bad, obs) == lieservo::Status::not_spd);
+}

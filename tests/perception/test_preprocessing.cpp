@@ -1,0 +1,146 @@
+// TacTip pre-processing (paper sec:pre_post_processing) on synthetic raw frames and on
+// the data set's processed images.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <string>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "lieservo_adapters/preprocessing.hpp"
+#include "perception_test_util.hpp"
+#include "synthetic_frames.hpp"
+
+using namespace lieservo::adapters;
+
+TEST_CASE("preprocessing: synthetic raw frame -> binary crop and 128x128 network input", "[perception][preprocessing]") {
+  const Preprocessor pre;  // the data set's parameters are the defaults
+  const perception_test::SyntheticFrame sf = perception_test::makeRawFrame(7);
+  REQUIRE(sf.bgr.size() == cv::Size(640, 480));
+
+  auto bin = pre.binarise(sf.bgr);
+  REQUIRE(bin.ok());
+  const cv::Mat& b = *bin;
+  REQUIRE(b.size() == cv::Size(445, 440));
+  REQUIRE(b.type() == CV_8UC1);
+  // Binary.
+  cv::Mat not_binary = (b != 0) & (b != 255);
+  CHECK(cv::countNonZero(not_binary) == 0);
+  // Markers white, gaps between them black (as in the data set's images).
+  int white_markers = 0;
+  for (const cv::Point& c : sf.markers_in_crop) white_markers += b.at<uchar>(c) == 255 ? 1 : 0;
+  CHECK(white_markers == static_cast<int>(sf.markers_in_crop.size()));
+  int black_gaps = 0;
+  for (const cv::Point& g : sf.gaps_in_crop) black_gaps += b.at<uchar>(g) == 0 ? 1 : 0;
+  CHECK(black_gaps >= static_cast<int>(0.95 * static_cast<double>(sf.gaps_in_crop.size())));
+  // Circular mask: radius 230 about (222, 220); everything beyond is 0, even the bright
+  // marker the synthetic frame puts in the corner of the crop.
+  for (int y = 0; y < b.rows; ++y)
+    for (int x = 0; x < b.cols; ++x)
+      if (std::hypot(x - 222.0, y - 220.0) > 230.5) REQUIRE(b.at<uchar>(y, x) == 0);
+
+  auto in = pre.processRaw(sf.bgr);
+  REQUIRE(in.ok());
+  REQUIRE(in->size() == cv::Size(128, 128));
+  REQUIRE(in->type() == CV_32FC1);
+  double lo = 0, hi = 0;
+  cv::minMaxLoc(*in, &lo, &hi);
+  CHECK(lo >= 0.0);
+  CHECK(hi <= 1.0);
+  CHECK(hi > 0.9);
+  // Equals resize(INTER_AREA) of the 8-bit binary image, then / 255.
+  cv::Mat small, expected;
+  cv::resize(b, small, cv::Size(128, 128), 0, 0, cv::INTER_AREA);
+  small.convertTo(expected, CV_32F, 1.0 / 255.0);
+  CHECK(cv::norm(*in, expected, cv::NORM_INF) == 0.0);
+
+  // Gray and BGRA inputs give the same result as BGR.
+  cv::Mat gray, bgra;
+  cv::cvtColor(sf.bgr, gray, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(sf.bgr, bgra, cv::COLOR_BGR2BGRA);
+  CHECK(cv::norm(*pre.processRaw(gray), *in, cv::NORM_INF) == 0.0);
+  CHECK(cv::norm(*pre.processRaw(bgra), *in, cv::NORM_INF) == 0.0);
+}
+
+TEST_CASE("preprocessing: wrong sizes, types and empty images give clear errors", "[perception][preprocessing]") {
+  const Preprocessor pre;
+  auto r1 = pre.processRaw(cv::Mat::zeros(440, 445, CV_8UC1));
+  REQUIRE_FALSE(r1.ok());
+  CHECK(r1.error().code == ErrorCode::wrong_size);
+  CHECK(r1.error().message.find("640x480") != std::string::npos);
+  CHECK(r1.error().message.find("445x440") != std::string::npos);
+
+  auto r2 = pre.fromProcessed(cv::Mat::zeros(480, 640, CV_8UC3));
+  REQUIRE_FALSE(r2.ok());
+  CHECK(r2.error().code == ErrorCode::wrong_size);
+
+  auto r3 = pre.processRaw(cv::Mat());
+  REQUIRE_FALSE(r3.ok());
+  CHECK(r3.error().code == ErrorCode::empty_image);
+
+  auto r4 = pre.fromProcessed(cv::Mat::zeros(440, 445, CV_16UC1));
+  REQUIRE_FALSE(r4.ok());
+  CHECK(r4.error().code == ErrorCode::wrong_type);
+
+  auto r5 = pre.fromProcessed(cv::Mat::zeros(440, 445, CV_8UC2));
+  REQUIRE_FALSE(r5.ok());
+  CHECK(r5.error().code == ErrorCode::wrong_type);
+
+  auto r6 = pre.loadProcessed("/nonexistent/image_1.png");
+  REQUIRE_FALSE(r6.ok());
+  CHECK(r6.error().code == ErrorCode::io_error);
+  CHECK(r6.error().message.find("/nonexistent/image_1.png") != std::string::npos);
+
+  const std::string dir = perception_test::makeTempDir("prep");
+  std::ofstream(dir + "/not_an_image.png") << "this is not a PNG";
+  auto r7 = pre.loadProcessed(dir + "/not_an_image.png");
+  REQUIRE_FALSE(r7.ok());
+  CHECK(r7.error().code == ErrorCode::io_error);
+  perception_test::removeTree(dir);
+
+  CHECK(std::string(describe(ErrorCode::camera_lost)) == "camera lost");
+
+  PreprocessParams bad;
+  bad.bbox = cv::Rect(300, 100, 445, 440);
+  CHECK_THROWS_WITH(Preprocessor(bad), Catch::Contains("outside"));
+}
+
+TEST_CASE("preprocessing: the data set's processed images", "[perception][preprocessing][data]") {
+  const std::string val = std::string(LIESERVO_DATA_DIR) + "/val";
+  if (!perception_test::exists(val + "/processed_images/image_1.png")) {
+    WARN("TacTip data not found under " << LIESERVO_DATA_DIR << ": skipping");
+    return;
+  }
+  const Preprocessor pre(PreprocessParams::fromJsonFile(val + "/processed_image_params.json"));
+  for (const char* name : {"image_1.png", "image_1000.png", "image_2000.png"}) {
+    const std::string path = val + "/processed_images/" + name;
+    const cv::Mat raw8 = cv::imread(path, cv::IMREAD_GRAYSCALE);
+    REQUIRE(raw8.size() == cv::Size(445, 440));
+    auto in = pre.loadProcessed(path);
+    REQUIRE(in.ok());
+    REQUIRE(in->size() == cv::Size(128, 128));
+    REQUIRE(in->type() == CV_32FC1);
+    double lo = 0, hi = 0;
+    cv::minMaxLoc(*in, &lo, &hi);
+    CHECK(lo == 0.0);
+    CHECK(hi == Approx(1.0));
+    // Area resampling keeps the mean intensity (up to 8-bit rounding).
+    CHECK(cv::mean(*in)[0] == Approx(cv::mean(raw8)[0] / 255.0).margin(2e-3));
+    // Outside the mask stays black: the corners.
+    CHECK(in->at<float>(0, 0) == 0.0f);
+    CHECK(in->at<float>(127, 127) == 0.0f);
+    // Each value is an 8-bit level / 255.
+    for (int y = 0; y < 128; y += 7)
+      for (int x = 0; x < 128; x += 7) {
+        const double v = 255.0 * in->at<float>(y, x);
+        REQUIRE(std::fabs(v - std::round(v)) < 1e-3);
+      }
+    // The processed image is a fixed point of the mask step: re-masking changes nothing.
+    cv::Mat mask = cv::Mat::zeros(raw8.size(), CV_8UC1), remasked = cv::Mat::zeros(raw8.size(), CV_8UC1);
+    cv::circle(mask, cv::Point(222, 220), 230, cv::Scalar(255), cv::FILLED);
+    raw8.copyTo(remasked, mask);
+    CHECK(cv::countNonZero(remasked != raw8) == 0);
+  }
+}

@@ -1,0 +1,165 @@
+// The table replay (examples/replay): labels, targets.csv reading, the Table 2 filter
+// experiment on a synthetic sequence, and an end-to-end run on the tiny models.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+
+#include "lieservo/estimation/concentrated_gaussian.hpp"
+#include "perception_test_util.hpp"
+#include "replay.hpp"
+
+using namespace lieservo;
+using namespace lieservo::replay;
+
+TEST_CASE("replay: labels match the Python reference (examples/gdn/labels_reference.csv)", "[perception][replay]") {
+  const std::string path = std::string(LIESERVO_SOURCE_DIR) + "/examples/gdn/labels_reference.csv";
+  if (!perception_test::exists(path)) {
+    WARN(path << " not found: skipping");
+    return;
+  }
+  const auto rows = perception_test::readCsv(path);
+  REQUIRE(rows.size() > 5);
+  REQUIRE(rows[0].size() == 13);
+  for (std::size_t r = 1; r < rows.size(); ++r) {
+    Vec6 e{};
+    for (std::size_t j = 0; j < 6; ++j) e[j] = std::stod(rows[r][1 + j]);
+    const Vec6 xi = labelFromEulerDegrees(e);
+    for (std::size_t j = 0; j < 6; ++j) CHECK(xi[j] == Approx(std::stod(rows[r][7 + j])).margin(1e-9));
+  }
+}
+
+TEST_CASE("replay: targets.csv reading and its errors", "[perception][replay]") {
+  const std::string dir = perception_test::makeTempDir("targets");
+  const std::string csv = dir + "/targets.csv";
+  const std::string header =
+      "sensor_image,pose_x,pose_y,pose_z,pose_Rx,pose_Ry,pose_Rz,shear_x,shear_y,shear_z,shear_Rx,shear_Ry,shear_Rz\n";
+  std::ofstream(csv) << header << "image_1.png,0,0,1.5,2,-3,0,0.5,-1,0,0,0,4\n";
+  const auto s = readTargets(csv);
+  REQUIRE(s.size() == 1);
+  CHECK(s[0].image == "image_1.png");
+  const Vec6 expected_euler{0.5, -1, 1.5, 2, -3, 4};
+  for (std::size_t j = 0; j < 6; ++j) CHECK(s[0].euler[j] == expected_euler[j]);
+  // ξ = log(X_fs⁻¹): the translation of X_sf = -R_fsᵀ t_fs, so for small angles ρ ≈ -t.
+  CHECK(s[0].xi[2] == Approx(-1.5).margin(0.15));
+
+  std::ofstream(csv) << header << "image_1.png,0,0,1.5,2,-3,0,0.5,abc,0,0,0,4\n";
+  CHECK_THROWS_WITH(readTargets(csv), Catch::Contains(csv + ":2") && Catch::Contains("shear_y"));
+  std::ofstream(csv) << "sensor_image,pose_x\nimage_1.png,0\n";
+  CHECK_THROWS_WITH(readTargets(csv), Catch::Contains("no column \"shear_x\""));
+  std::ofstream(csv) << header << "image_1.png,0,0\n";
+  CHECK_THROWS_WITH(readTargets(csv), Catch::Contains("expected 13 cells"));
+  CHECK_THROWS_WITH(readTargets(dir + "/none.csv"), Catch::Contains("cannot open"));
+  perception_test::removeTree(dir);
+}
+
+namespace {
+
+/// A synthetic sequence of random contacts in the data set's ranges, with GDN-like noisy
+/// observations of known σ (mm, deg).
+void syntheticSequence(std::size_t n, std::vector<Sample>& samples, std::vector<ConcentratedGaussian<SE3d>>& obs) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::normal_distribution<double> g(0.0, 1.0);
+  const double sigma[6] = {0.5, 0.5, 0.15, 0.6 * M_PI / 180, 0.8 * M_PI / 180, 1.5 * M_PI / 180};
+  samples.clear();
+  obs.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    Sample s;
+    s.image = "synthetic_" + std::to_string(i);
+    s.euler = {5 * u(rng) / 1.5, 5 * u(rng) / 1.5, 3.25 + 2.75 * u(rng), 25 * u(rng), 25 * u(rng), 5 * u(rng)};
+    s.xi = labelFromEulerDegrees(s.euler);
+    SE3d::Tangent mu, sd;
+    for (int j = 0; j < 6; ++j) {
+      sd(j) = sigma[j];
+      mu(j) = s.xi[static_cast<std::size_t>(j)] + sigma[j] * g(rng);
+    }
+    ConcentratedGaussian<SE3d> o;
+    REQUIRE(fromTangentGaussian(mu, sd, o) == Status::ok);
+    samples.push_back(s);
+    obs.push_back(o);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("replay: Table 2 filter experiment on a synthetic sequence", "[perception][replay][filter]") {
+  std::vector<Sample> samples;
+  std::vector<ConcentratedGaussian<SE3d>> obs;
+  syntheticSequence(400, samples, obs);
+  const FilterRun raw = replayFilter(samples, obs, 1e6, 1);  // effectively no filtering
+  const FilterRun f10 = replayFilter(samples, obs, 10.0, 1);
+  const FilterRun f01 = replayFilter(samples, obs, 0.1, 1);
+  const FilterRun f001 = replayFilter(samples, obs, 0.01, 1);
+  REQUIRE(raw.mu.size() == 400);
+  for (std::size_t j = 0; j < 6; ++j) {
+    INFO("component " << j);
+    CHECK(raw.row.failures == 0);
+    CHECK(f001.row.failures == 0);
+    // Observation-noise MAE ≈ σ sqrt(2/π).
+    // σψ = 10 barely filters; 0.1 and 0.01 reduce the error, the smaller the more.
+    CHECK(f10.row.mae[j] == Approx(raw.row.mae[j]).epsilon(0.1));
+    CHECK(f01.row.mae[j] < 0.8 * raw.row.mae[j]);
+    CHECK(f001.row.mae[j] < f01.row.mae[j]);
+    CHECK(f001.row.mae[j] < 0.35 * raw.row.mae[j]);
+    // And the filtered uncertainty shrinks accordingly.
+    CHECK(f001.row.mean_sigma[j] < f10.row.mean_sigma[j]);
+  }
+  // Deterministic for a seed.
+  const FilterRun again = replayFilter(samples, obs, 0.1, 1);
+  for (std::size_t j = 0; j < 6; ++j) CHECK(again.row.mae[j] == f01.row.mae[j]);
+}
+
+TEST_CASE("replay: end to end on real images with the tiny test models", "[perception][replay][data]") {
+  const std::string data = LIESERVO_DATA_DIR;
+  if (!perception_test::exists(data + "/val/targets.csv")) {
+    WARN("TacTip data not found under " << data << ": skipping");
+    return;
+  }
+  // A models dir laid out like examples/gdn/models, holding the tiny random models.
+  const std::string tiny = std::string(LIESERVO_SOURCE_DIR) + "/tests/perception/data";
+  const std::string models = perception_test::makeTempDir("replay_models");
+  namespace fs = std::filesystem;
+  fs::copy_file(tiny + "/tiny_model_card.json", models + "/model_card.json");
+  fs::copy_file(tiny + "/tiny_gdn.onnx", models + "/tiny_gdn.onnx");
+  fs::copy_file(tiny + "/tiny_cnn.onnx", models + "/tiny_cnn.onnx");
+  ReplayOptions o;
+  o.data_dir = data;
+  o.models_dir = models;
+  o.quick = 40;
+  o.verbose = false;
+  o.plot_dir = models + "/plots";
+  o.cache_file = models + "/cache.txt";
+  const ReplayResults r = runReplay(o);
+  CHECK(r.n == 40);
+  CHECK(r.have_gdn);
+  CHECK(r.have_cnn);
+  CHECK_FALSE(r.inference_cached);
+  REQUIRE(r.filter.size() == 4);
+  for (std::size_t j = 0; j < 6; ++j) {
+    CHECK(std::isfinite(r.gdn_mae[j]));
+    CHECK(std::isfinite(r.cnn_mae[j]));
+    for (const auto& row : r.filter) CHECK(std::isfinite(row.mae[j]));
+  }
+  CHECK(std::isfinite(r.gdn_nll_rad));
+  CHECK(r.plots.size() == 6);
+  for (const auto& p : r.plots) CHECK(fs::file_size(p) > 1000);
+  const std::string md = r.markdown(o, "lieservo_replay --quick 40");
+  CHECK(md.find("Table 1") != std::string::npos);
+  CHECK(md.find("Table 2") != std::string::npos);
+  CHECK(md.find("lieservo_replay --quick 40") != std::string::npos);
+  CHECK(r.table().find("GDN ours") != std::string::npos);
+  // Second run: from the cache, same numbers.
+  const ReplayResults c = runReplay(o);
+  CHECK(c.inference_cached);
+  for (std::size_t j = 0; j < 6; ++j) CHECK(c.gdn_mae[j] == Approx(r.gdn_mae[j]).epsilon(1e-6));
+
+  // Missing model: clear error.
+  fs::remove(models + "/tiny_gdn.onnx");
+  o.cache_file.clear();
+  CHECK_THROWS_WITH(runReplay(o), Catch::Contains("tiny_gdn.onnx"));
+  perception_test::removeTree(models);
+}

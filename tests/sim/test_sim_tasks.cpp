@@ -1,0 +1,93 @@
+// Short seeded closed-loop runs of the four tasks: contact kept, target reached, errors under
+// the bounds of docs/simulation.md ("Success criteria").  Duration scales with
+// LIESERVO_SIM_TEST_SCALE (default 1; e.g. 0.5 under sanitizers if needed).
+#include <cstdlib>
+
+#include <catch2/catch.hpp>
+
+#include "lieservo_sim/tasks.hpp"
+
+using namespace lieservo::sim;
+
+namespace {
+double scale() {
+  const char* s = std::getenv("LIESERVO_SIM_TEST_SCALE");
+  const double v = s ? std::atof(s) : 1.0;
+  return v > 0 ? v : 1.0;
+}
+std::string joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += x + "\n";
+  return s;
+}
+}  // namespace
+
+TEST_CASE("task (a): object tracking keeps contact at the reference depth", "[sim][task]") {
+  TaskOptions o;
+  o.seed = 3;
+  o.duration_scale = 0.25 * scale();
+  const TrackingResult r = runObjectTracking(o);
+  INFO(joined(r.failures));
+  CHECK(r.success);
+  CHECK(r.single_axis.contact_kept);
+  CHECK(r.periodic.contact_kept);
+  CHECK(r.single_axis.depth_error.mean < Bounds::tracking_depth_mean);
+  CHECK(r.single_axis.tilt.max < Bounds::tracking_tilt_max);
+  CHECK(r.sim_time > 40 * std::min(1.0, scale()));
+}
+
+TEST_CASE("task (b): surface following on the ramp and the dome", "[sim][task]") {
+  TaskOptions o;
+  o.seed = 5;
+  o.duration_scale = 0.3 * scale();
+  const FollowingResult r = runSurfaceFollowing(o);
+  INFO(joined(r.failures));
+  CHECK(r.success);
+  CHECK(r.ramp.reached_end);
+  CHECK(r.ramp.contact_kept);
+  CHECK(r.dome.size() == 8);
+  CHECK(r.dome_pooled.contact_kept);
+  CHECK(r.ramp.depth_error.max < Bounds::following_depth_max);
+  CHECK(r.dome_pooled.tilt.mean < Bounds::following_tilt_mean);
+}
+
+TEST_CASE("task (c): single-arm pushing reaches the target", "[sim][task]") {
+  TaskOptions o;
+  o.seed = 11;
+  PushingSetup s;
+  s.object = shortObjects()[0];  // large square
+  s.surface = mdfSurface();
+  const PushTrial t = runPushTrial(s, o, 1);
+  CHECK(t.terminated);
+  CHECK(t.contact_kept);
+  CHECK(t.target_error < Bounds::pushing_error_max);
+  CHECK(t.final_distance < 21);
+  PushingSetup c = s;
+  c.object = shortObjects()[1];  // circle
+  c.surface = foamSurface();
+  const PushTrial tc = runPushTrial(c, o, 2);
+  CHECK(tc.terminated);
+  CHECK(tc.contact_kept);
+  CHECK(tc.target_error < Bounds::pushing_error_max);
+}
+
+TEST_CASE("task (d): dual-arm pushing keeps both contacts", "[sim][task]") {
+  TaskOptions o;
+  o.seed = 13;
+  PushingSetup s;
+  s.object = shortObjects()[2];  // small square
+  s.surface = mdfSurface();
+  s.dual_arm = true;
+  const PushTrial t = runPushTrial(s, o, 1);
+  CHECK(t.terminated);
+  CHECK(t.contact_kept);
+  CHECK(t.follower_contact_kept);
+  CHECK(t.target_error < Bounds::pushing_error_max);
+  PushingSetup tall = s;
+  tall.object = tallObjects()[0];
+  tall.tall = true;
+  const PushTrial tt = runPushTrial(tall, o, 2);
+  CHECK(tt.terminated);
+  CHECK(tt.contact_kept);
+  CHECK(tt.target_error < Bounds::pushing_error_max);
+}
