@@ -18,7 +18,7 @@ cmake --build "$build" --target lieservo_speed_error_report lieservo_bench -j2
 "$py" "$here/plot_report.py" "$tmp/report.csv" "$tmp/table.md" "$root/docs/performance_pareto.png"
 "$build/benchmarks/lieservo_bench" --benchmark_filter='BM_(FilterStep|ServoStep|PushingStep|Cycle)' \
   --benchmark_repetitions=9 --benchmark_report_aggregates_only=true --benchmark_min_time=0.2 \
-  --benchmark_format=csv 2>/dev/null | grep '_median' > "$tmp/steps.csv" || true
+  --benchmark_format=csv 2>/dev/null > "$tmp/steps.csv" || true
 "$build/benchmarks/lieservo_speed_error_report" --dump "$tmp/cases.csv"
 "$py" "$here/numpy_baseline.py" --check "$tmp/cases.csv" --bench > "$tmp/numpy.txt"
 
@@ -34,15 +34,50 @@ cmake --build "$build" --target lieservo_speed_error_report lieservo_bench -j2
   echo
   echo "#### Filter, controller and cycle steps (Google Benchmark, 9 repetitions, median)"
   echo
-  echo "| benchmark | median (ns) |"
-  echo "|---|---:|"
-  awk -F, '{gsub(/"/,"",$1); sub(/_median$/,"",$1); printf "| `%s` | %.0f |\n", $1, $3}' "$tmp/steps.csv"
+  echo "| benchmark | wall-clock median (ns) | CPU-time median (ns) |"
+  echo "|---|---:|---:|"
+  "$py" - "$tmp/steps.csv" <<'PY'
+import csv, sys
+lines = open(sys.argv[1]).read().splitlines()
+start = next((i for i, l in enumerate(lines) if l.startswith("name,")), None)
+for r in (csv.DictReader(lines[start:]) if start is not None else []):
+    if r["name"].endswith("_median"):
+        name = r["name"][:-len("_median")].replace("lieservo::", "")
+        print(f"| `{name}` | {float(r['real_time']):.0f} | {float(r['cpu_time']):.0f} |")
+PY
   echo
   echo "#### NumPy baseline (paper configuration: series N = 2, 5 iterations)"
   echo
   echo '```'
   cat "$tmp/numpy.txt"
   echo '```'
+  echo
+  "$py" - "$tmp/steps.csv" "$tmp/numpy.txt" "$tmp/report.csv" <<'PY'
+import csv, sys
+steps, numpy_txt, report = sys.argv[1:4]
+lines = open(steps).read().splitlines()
+start = next((i for i, l in enumerate(lines) if l.startswith("name,")), None)
+cpp_filter = None
+for r in (csv.DictReader(lines[start:]) if start is not None else []):
+    if r["name"] == "BM_FilterStep<lieservo::SE3<double>, lieservo::PaperJacobian>_median":
+        cpp_filter = float(r["real_time"])
+cpp_fuse = None
+for r in csv.DictReader(open(report)):
+    if r["scalar"] == "double" and r["policy"] == "series" and r["order"] == "2" and r["iterations"] == "5":
+        cpp_fuse = float(r["ns_median"])
+np_t = {}
+for l in open(numpy_txt):
+    if l.startswith("numpy_time,"):
+        _, kind, _, t = l.strip().split(",")
+        np_t[kind] = float(t.split()[0])
+out = []
+if cpp_fuse and "fuse" in np_t:
+    out.append(f"fusion {np_t['fuse'] / 1e3:.0f} µs (NumPy) vs {cpp_fuse / 1e3:.2f} µs (C++): **{np_t['fuse'] / cpp_fuse:.0f}×**")
+if cpp_filter and "filter" in np_t:
+    out.append(f"filter step {np_t['filter'] / 1e3:.0f} µs (NumPy) vs {cpp_filter / 1e3:.2f} µs (C++): **{np_t['filter'] / cpp_filter:.0f}×**")
+if out:
+    print("Speed ratio NumPy / C++ (wall-clock medians, same machine, same load, double): " + "; ".join(out) + ".")
+PY
   echo
   echo "#### Speed against error of the fusion (alg:se3_data_fusion)"
   echo

@@ -41,7 +41,7 @@ def main():
         front = pareto(rs, key)
         lines.append(f"\n**SE(3) {scalar}** — fusion of two factors; time = median per fuse() call; errors against the "
                      "long-double converged reference (realistic set: mean; hard set: max). ★ = on the Pareto front "
-                     "of (time, mean rotation error).\n")
+                     "of (time, mean rotation error). Hard fails: fuse() returned a non-ok Status (near π + extreme σ + tiny angles).\n")
         lines.append("| Jacobian | it. | time (ns) | rot. err (rad) | trans. err (mm) | cov. rel. err | "
                      "hard: rot. (rad) | hard: trans. (mm) | hard: cov. | hard fails | Pareto |")
         lines.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|:---:|")
@@ -51,7 +51,8 @@ def main():
                 f"| {label(r)}{paper} | {r['iterations']} | {float(r['ns_median']):.0f} | {float(r[key]):.2e} | "
                 f"{float(r['real_trans_mean_mm']):.2e} | {float(r['real_cov_mean_rel']):.2e} | "
                 f"{float(r['hard_rot_max_rad']):.1e} | {float(r['hard_trans_max_mm']):.1e} | "
-                f"{float(r['hard_cov_max_rel']):.1e} | {r['hard_failures']}/{r['hard_cases']} | "
+                f"{float(r['hard_cov_max_rel']):.1e} | {r['hard_failures']}/{r['hard_cases']} "
+                f"({r['hard_fail_near_pi']}+{r['hard_fail_extreme_sigma']}+{r['hard_fail_tiny_angle']}) | "
                 f"{'★' if i in front else ''} |")
     with open(out_md, "w") as f:
         f.write("\n".join(lines) + "\n")

@@ -50,7 +50,12 @@ int main(int argc, char** argv) {
   std::string results_md;
   bool skip_missing = false, check = false;
   std::ostringstream command;
-  command << "lieservo_replay";
+  {
+    std::error_code ec;
+    const std::filesystem::path cwd = std::filesystem::current_path(ec);
+    if (!ec) command << "cd " << cwd.string() << " && ";
+  }
+  command << argv[0];
   for (int i = 1; i < argc; ++i) command << ' ' << argv[i];
 
   for (int i = 1; i < argc; ++i) {

@@ -59,6 +59,7 @@ struct ReplayResults {
   std::vector<FilterRow> filter;  ///< Table 2 (σψ = ∞ is gdn_mae)
   double seconds_load = 0.0, seconds_inference = 0.0, seconds_filter = 0.0, seconds_plots = 0.0,
          seconds_total = 0.0;
+  double cpu_seconds_total = 0.0;  ///< process CPU time (all threads) spent in runReplay
   bool inference_cached = false;
   std::vector<std::string> plots;  ///< files written
   std::vector<std::string> notes;  ///< warnings (missing CNN, filter failures, ...)

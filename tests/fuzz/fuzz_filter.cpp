@@ -66,7 +66,7 @@ void run(Bytes& b) {
         o2.process_noise = fuzz::covariance<G>(b);
         o2.gating = (b.u8() & 1) != 0;
         s = f.setOptions(o2);
-        if (s != Status::ok) LIESERVO_FUZZ_REQUIRE(Snapshot<G, Policy>(f) == before);
+        if (s != Status::ok) LIESERVO_FUZZ_REQUIRE((Snapshot<G, Policy>(f) == before));
         continue;  // options are not state
       }
       case 4:
@@ -95,7 +95,7 @@ void run(Bytes& b) {
       LIESERVO_FUZZ_REQUIRE(f.filtered().validate() == Status::ok);
       LIESERVO_FUZZ_REQUIRE(std::isfinite(f.diagnostics().nis));
     } else {
-      LIESERVO_FUZZ_REQUIRE(Snapshot<G, Policy>(f) == before);
+      LIESERVO_FUZZ_REQUIRE((Snapshot<G, Policy>(f) == before));
     }
   }
 }

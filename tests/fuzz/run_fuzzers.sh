@@ -29,7 +29,7 @@ for t in fuzz_log fuzz_fusion fuzz_filter; do
   mkdir -p "$corpus" "$artifacts"
   log="$dir/$t.log"
   echo "== $t: ${secs}s (log: $log)"
-  if "$exe" -max_total_time="$secs" -max_len=4096 -timeout=10 -rss_limit_mb=2048 \
+  if "$exe" -max_total_time="$secs" -max_len=4096 -len_control=0 -timeout=10 -rss_limit_mb=2048 \
       -print_final_stats=1 -artifact_prefix="$artifacts" "$corpus" >"$log" 2>&1; then
     grep -E "^stat::number_of_executed_units|^#[0-9]+.*DONE" "$log" | tail -2
     echo "   ok"

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
 
 #include <lieservo/control/dual_arm.hpp>
@@ -264,25 +265,35 @@ PushingCase runPushingCase(const PushingSetup& setup, const TaskOptions& opt, in
   PushingCase pc;
   pc.setup = setup;
   for (int i = 0; i < trials; ++i) pc.trials.push_back(runPushTrial(setup, opt, opt.seed * 1000 + std::uint64_t(i) + 1));
+  // Statistics over the trials that reached the target (the paper's trials all did).
   double m = 0;
-  for (const auto& t : pc.trials) m += t.target_error;
-  m /= trials;
+  for (const auto& t : pc.trials)
+    if (t.terminated) m += t.target_error, ++pc.reached_trials;
+  m = pc.reached_trials ? m / pc.reached_trials : std::numeric_limits<double>::quiet_NaN();
   double v = 0;
-  for (const auto& t : pc.trials) v += (t.target_error - m) * (t.target_error - m);
+  for (const auto& t : pc.trials)
+    if (t.terminated) v += (t.target_error - m) * (t.target_error - m);
   pc.mean_error = m;
-  pc.sd_error = trials > 1 ? std::sqrt(v / (trials - 1)) : 0.0;
+  pc.sd_error = pc.reached_trials > 1 ? std::sqrt(v / (pc.reached_trials - 1)) : 0.0;
   const std::string tag = std::string(setup.dual_arm ? "dual-arm " : "single-arm ") + setup.object.name + " on " +
                           setup.surface.name;
+  char buf[240];
+  const int allowed_misses = trials / 5;  // 1 in 5 trials (Bounds::pushing_min_reached_fraction)
   for (std::size_t i = 0; i < pc.trials.size(); ++i) {
     const PushTrial& t = pc.trials[i];
-    char buf[240];
     if (!t.terminated) {
       std::snprintf(buf, sizeof buf, "%s trial %zu: target not reached in %.0f s (final distance %.0f mm)", tag.c_str(),
                     i + 1, setup.timeout, t.final_distance);
-      pc.failures.push_back(buf);
+      pc.notes.push_back(buf);
+      continue;
     }
     if (!t.contact_kept) {
       std::snprintf(buf, sizeof buf, "%s trial %zu: pusher lost contact", tag.c_str(), i + 1);
+      pc.failures.push_back(buf);
+    }
+    if (t.target_error > Bounds::pushing_error_max) {
+      std::snprintf(buf, sizeof buf, "%s trial %zu: target error %.1f mm > %.0f mm", tag.c_str(), i + 1,
+                    t.target_error, Bounds::pushing_error_max);
       pc.failures.push_back(buf);
     }
     if (setup.dual_arm && !t.follower_contact_kept) {
@@ -291,11 +302,11 @@ PushingCase runPushingCase(const PushingSetup& setup, const TaskOptions& opt, in
       pc.notes.push_back(buf);
     }
     if (t.follower_contact_kept) ++pc.follower_kept_trials;
-    if (t.target_error > Bounds::pushing_error_max) {
-      std::snprintf(buf, sizeof buf, "%s trial %zu: target error %.1f mm > %.0f mm", tag.c_str(), i + 1,
-                    t.target_error, Bounds::pushing_error_max);
-      pc.failures.push_back(buf);
-    }
+  }
+  if (trials - pc.reached_trials > allowed_misses) {
+    std::snprintf(buf, sizeof buf, "%s: target reached in only %d of %d trials (at most %d miss allowed)", tag.c_str(),
+                  pc.reached_trials, trials, allowed_misses);
+    pc.failures.push_back(buf);
   }
   pc.success = pc.failures.empty();
   return pc;

@@ -74,9 +74,10 @@ TrackingResult runObjectTracking(const TaskOptions& opt) {
   lieservo::TactileServoController<SE3d> ctrl(lieservo::objectTrackingPreset<double>());
   if (ctrl.configurationStatus() != Status::ok) throw SceneError("object tracking preset rejected");
 
-  const double S = opt.duration_scale;
-  const double leg_time = 12.0 * std::max(0.25, S), hold = 1.0;
-  const double L = 200, A = deg(60);
+  // duration_scale < 1 shortens the legs at the same speeds (shorter moves, shorter times).
+  const double S = std::min(1.0, std::max(0.2, opt.duration_scale));
+  const double leg_time = 12.0 * S, hold = 1.0;
+  const double L = 200 * S, A = deg(60) * S;
   std::vector<Leg> legs;
   auto addPair = [&](const std::string& n, Vec3 tr, Vec3 ax, double ang) {
     legs.push_back({n + " out", tr, ax, ang, +1});
@@ -90,8 +91,8 @@ TrackingResult runObjectTracking(const TaskOptions& opt) {
   addPair("gamma", Vec3::Zero(), Vec3::UnitZ(), A);
   const double T1 = legs.size() * (leg_time + hold);
   const double Tper = 30.0;
-  const int periods = S >= 1 ? 3 : 1;
-  const double T2 = S >= 1 ? periods * Tper : std::max(5.0, S * periods * Tper);
+  const int periods = opt.duration_scale >= 1 ? 3 : 1;
+  const double T2 = opt.duration_scale >= 1 ? periods * Tper : std::max(5.0, opt.duration_scale * Tper);
 
   res.segments.resize(legs.size() + 1);
   for (std::size_t i = 0; i < legs.size(); ++i) res.segments[i].name = legs[i].name;

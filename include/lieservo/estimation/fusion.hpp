@@ -76,27 +76,29 @@ template <class Mat>
 void householderTriangularize(Mat& M, int nrows, int tri_cols) noexcept {
   using Scalar = typename Mat::Scalar;
   constexpr int C = Mat::ColsAtCompileTime;
+  constexpr int RMax = Mat::RowsAtCompileTime;
+  Scalar v[RMax];  // the scaled reflector below the diagonal, computed once per column
   for (int k = 0; k < tri_cols && k < nrows; ++k) {
     Scalar scale(0);
     for (int i = k; i < nrows; ++i) scale = std::max(scale, std::abs(M(i, k)));
     if (!(scale > Scalar(0)) || !std::isfinite(scale)) continue;
     Scalar sigma2(0);
     for (int i = k + 1; i < nrows; ++i) {
-      const Scalar v = M(i, k) / scale;
-      sigma2 += v * v;
+      v[i] = M(i, k) / scale;
+      sigma2 += v[i] * v[i];
     }
     if (sigma2 == Scalar(0)) continue;  // nothing below the diagonal
     const Scalar x0 = M(k, k) / scale;
     Scalar alpha = std::sqrt(x0 * x0 + sigma2);
     if (x0 > Scalar(0)) alpha = -alpha;  // v0 = x0 − alpha never cancels
     const Scalar v0 = x0 - alpha;
-    const Scalar vtv = v0 * v0 + sigma2;
+    const Scalar beta = Scalar(2) / (v0 * v0 + sigma2);
     for (int j = k + 1; j < C; ++j) {
       Scalar s = v0 * M(k, j);
-      for (int i = k + 1; i < nrows; ++i) s += (M(i, k) / scale) * M(i, j);
-      const Scalar f = Scalar(2) * s / vtv;
+      for (int i = k + 1; i < nrows; ++i) s += v[i] * M(i, j);
+      const Scalar f = beta * s;
       M(k, j) -= f * v0;
-      for (int i = k + 1; i < nrows; ++i) M(i, j) -= f * (M(i, k) / scale);
+      for (int i = k + 1; i < nrows; ++i) M(i, j) -= f * v[i];
     }
     M(k, k) = alpha * scale;
     for (int i = k + 1; i < nrows; ++i) M(i, k) = Scalar(0);
@@ -186,6 +188,7 @@ Status fuse(const ConcentratedGaussian<G>* factors, int count,
 
   // Validate each factor and factorise its covariance once (Σ_i = L_i L_iᵀ).
   Jacobian L[kMaxFusionFactors];
+  Jacobian Linv[kMaxFusionFactors];  // L_i⁻¹, formed once per call (whitening of factor i)
   G inv_mean[kMaxFusionFactors];
   for (int i = 0; i < count; ++i) {
     Status s = est_detail::checkGroupElement(factors[i].mean);
@@ -193,6 +196,8 @@ Status fuse(const ConcentratedGaussian<G>* factors, int count,
     s = est_detail::choleskyChecked(factors[i].covariance, L[i]);
     if (s != Status::ok) return s;
     inv_mean[i] = factors[i].mean.inverse();
+    Linv[i].setIdentity();
+    est_detail::lowerSolveInPlace(L[i], Linv[i]);
   }
 
   G X = factors[0].mean;  // operating point X̄ ← X̄_1
@@ -214,11 +219,8 @@ Status fuse(const ConcentratedGaussian<G>* factors, int count,
     for (int i = 0; i < count; ++i) {
       Jacobian Jinv;
       const Tangent xi = Policy::logAndInverse(X * inv_mean[i], Jinv);  // ξ_i, J(ξ_i)⁻¹
-      Jacobian A = Jinv;  // → L_i⁻¹ J_i⁻¹ (so A_iᵀA_i = J_i⁻ᵀ Σ_i⁻¹ J_i⁻¹)
-      Tangent b = xi;     // → L_i⁻¹ ξ_i
-      est_detail::lowerSolveInPlace(L[i], A);
-      est_detail::lowerSolveInPlace(L[i], b);
-      info.add(A, b);
+      // A_i = L_i⁻¹ J_i⁻¹ (so A_iᵀA_i = J_i⁻ᵀ Σ_i⁻¹ J_i⁻¹), b_i = L_i⁻¹ ξ_i: fixed-size products
+      info.add(Linv[i] * Jinv, Linv[i] * xi);
     }
     info.compress();
     R = info.R();

@@ -280,12 +280,38 @@ class SO3 {
     return fromMatrixUnchecked(C);
   }
   static Jacobian leftJacobianWith(const Tangent& phi, const detail::AngleTerms<Scalar>& t) {
-    const Matrix3 P = detail::skew(phi);
-    return Matrix3::Identity() + detail::coeffB(t) * P + detail::coeffC(t) * (P * P);
+    return identityPlus(phi, detail::coeffB(t), detail::coeffC(t));
   }
   static Jacobian leftJacobianInverseWith(const Tangent& phi, const detail::AngleTerms<Scalar>& t) {
-    const Matrix3 P = detail::skew(phi);
-    return Matrix3::Identity() - Scalar(Real(0.5)) * P + detail::coeffD(t) * (P * P);
+    return identityPlus(phi, Scalar(Real(-0.5)), detail::coeffD(t));
+  }
+  /// (φ^)² = φφᵀ − θ²I, with the diagonal −(φ_j² + φ_k²) summed directly (no cancellation).
+  static Matrix3 skewSquared(const Tangent& phi) {
+    const Scalar xx = phi(0) * phi(0), yy = phi(1) * phi(1), zz = phi(2) * phi(2);
+    const Scalar xy = phi(0) * phi(1), xz = phi(0) * phi(2), yz = phi(1) * phi(2);
+    Matrix3 m;
+    m(0, 0) = -(yy + zz);
+    m(1, 1) = -(xx + zz);
+    m(2, 2) = -(xx + yy);
+    m(0, 1) = m(1, 0) = xy;
+    m(0, 2) = m(2, 0) = xz;
+    m(1, 2) = m(2, 1) = yz;
+    return m;
+  }
+  /// I + a φ^ + b (φ^)², entry by entry (the form of J, J⁻¹ and exp).
+  static Matrix3 identityPlus(const Tangent& phi, const Scalar& a, const Scalar& b) {
+    Matrix3 m = b * skewSquared(phi);
+    m(0, 0) += Scalar(1);
+    m(1, 1) += Scalar(1);
+    m(2, 2) += Scalar(1);
+    const Vector3 ap = a * phi;
+    m(0, 1) -= ap(2);
+    m(1, 0) += ap(2);
+    m(0, 2) += ap(1);
+    m(2, 0) -= ap(1);
+    m(1, 2) -= ap(0);
+    m(2, 1) += ap(0);
+    return m;
   }
 
  private:
