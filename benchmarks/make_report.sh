@@ -13,10 +13,17 @@ doc="$root/docs/performance.md"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
-cmake --build "$build" --target lieservo_speed_error_report lieservo_bench -j2
+# LIESERVO_REPORT_SKIP_BUILD=1: use the binaries as built; LIESERVO_REPORT_SKIP_STEPS=1: skip the
+# Google Benchmark filter/controller/cycle table (and lieservo_bench).
+if [[ "${LIESERVO_REPORT_SKIP_BUILD:-0}" != 1 ]]; then
+  targets=(lieservo_speed_error_report)
+  [[ "${LIESERVO_REPORT_SKIP_STEPS:-0}" == 1 ]] || targets+=(lieservo_bench)
+  cmake --build "$build" --target "${targets[@]}" -j2
+fi
 "$build/benchmarks/lieservo_speed_error_report" --csv "$tmp/report.csv"
 "$py" "$here/plot_report.py" "$tmp/report.csv" "$tmp/table.md" "$root/docs/performance_pareto.png"
-"$build/benchmarks/lieservo_bench" --benchmark_filter='BM_(FilterStep|ServoStep|PushingStep|Cycle)' \
+: > "$tmp/steps.csv"
+[[ "${LIESERVO_REPORT_SKIP_STEPS:-0}" == 1 ]] || "$build/benchmarks/lieservo_bench" --benchmark_filter='BM_(FilterStep|ServoStep|PushingStep|Cycle)' \
   --benchmark_repetitions=9 --benchmark_report_aggregates_only=true --benchmark_min_time=0.2 \
   --benchmark_format=csv 2>/dev/null > "$tmp/steps.csv" || true
 "$build/benchmarks/lieservo_speed_error_report" --dump "$tmp/cases.csv"
@@ -32,6 +39,7 @@ cmake --build "$build" --target lieservo_speed_error_report lieservo_bench -j2
   flags=$(sed -n 's/^CMAKE_CXX_FLAGS_RELEASE:[A-Z]*=//p' "$build/CMakeCache.txt")
   echo "Compiler: $("$cxx" --version | head -1); flags: \`$flags\` (CMake Release), Eigen 3.4."
   echo
+  if [[ -s "$tmp/steps.csv" ]]; then
   echo "#### Filter, controller and cycle steps (Google Benchmark, 9 repetitions, median)"
   echo
   echo "| benchmark | wall-clock median (ns) | CPU-time median (ns) |"
@@ -45,6 +53,7 @@ for r in (csv.DictReader(lines[start:]) if start is not None else []):
         name = r["name"][:-len("_median")].replace("lieservo::", "")
         print(f"| `{name}` | {float(r['real_time']):.0f} | {float(r['cpu_time']):.0f} |")
 PY
+  fi
   echo
   echo "#### NumPy baseline (paper configuration: series N = 2, 5 iterations)"
   echo

@@ -21,10 +21,10 @@
 // never lost (flushed + fsynced after their image) nor duplicated (index i is written once).
 #pragma once
 
-#include "dataset_reader.hpp"
+#include <lieservo_dataset/dataset_reader.hpp>
 #include "image_io.hpp"
 #include "image_source.hpp"
-#include "dataset_json.hpp"
+#include <lieservo_dataset/json.hpp>
 
 #include <robot/robot_interface.hpp>
 
@@ -49,6 +49,9 @@
 #endif
 
 namespace lieservo::collection {
+
+// The JSON and data set readers are the shared ones of examples/dataset.
+using namespace lieservo::dataset;
 
 using SE3d = SE3<double>;
 using ContactPose = sampling::SurfaceContactPose<double>;

@@ -5,7 +5,7 @@
 // byte-for-byte deterministic for a given image.
 #pragma once
 
-#include "dataset_json.hpp"  // DatasetError
+#include <lieservo_dataset/json.hpp>  // DatasetError
 
 #include <array>
 #include <cstdint>
@@ -23,6 +23,9 @@
 #endif
 
 namespace lieservo::collection {
+
+// The JSON and data set readers are the shared ones of examples/dataset.
+using namespace lieservo::dataset;
 
 /// Row-major 8-bit grayscale image.
 struct GrayImage {

@@ -8,7 +8,7 @@
 #pragma once
 
 #include "image_io.hpp"
-#include "dataset_json.hpp"
+#include <lieservo_dataset/json.hpp>
 
 #include <robot/robot_interface.hpp>
 
@@ -19,6 +19,9 @@
 #include <string>
 
 namespace lieservo::collection {
+
+// The JSON and data set readers are the shared ones of examples/dataset.
+using namespace lieservo::dataset;
 
 class ImageSource {
  public:

@@ -206,12 +206,12 @@ int main(int argc, char** argv) {
 #endif
 
   // ---- one summary table ----
-  std::printf("\n%-16s %-70s %-22s %-22s %s\n", "task", "quantity", "simulation", "paper", "pass");
-  std::printf("%s\n", std::string(140, '-').c_str());
+  std::printf("\n%-16s %-70s %-24s %-24s %s\n", "task", "quantity", "simulation", "paper", "pass");
+  std::printf("%s\n", std::string(144, '-').c_str());
   for (const Row& r : rows)
-    std::printf("%-16s %-70s %-22s %-22s %s\n", r.task.c_str(), r.item.c_str(), r.sim.c_str(), r.paper.c_str(),
+    std::printf("%-16s %-70s %-24s %-24s %s\n", r.task.c_str(), r.item.c_str(), r.sim.c_str(), r.paper.c_str(),
                 r.pass ? "yes" : "NO");
-  std::printf("%s\n", std::string(140, '-').c_str());
+  std::printf("%s\n", std::string(144, '-').c_str());
   std::printf("pushing: final target error = perpendicular distance from the target to the sensor-object contact\n"
               "normal at termination, mean ± sd over %d seeded trials (paper: 5 real trials, Tables 3-5).\n",
               trials);

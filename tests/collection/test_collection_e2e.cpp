@@ -6,8 +6,8 @@
 #include <catch2/catch.hpp>
 
 #include "collector.hpp"
-#include "dataset_reader.hpp"
-#include "dataset_json.hpp"
+#include <lieservo_dataset/dataset_reader.hpp>
+#include <lieservo_dataset/json.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -20,6 +20,7 @@
 #endif
 
 using namespace lieservo::collection;
+using namespace lieservo::dataset;
 using Catch::Matchers::Contains;
 namespace fs = std::filesystem;
 

@@ -82,7 +82,7 @@ TEST_CASE("synthetic image source: pose dependent, binarised, valid PNG", "[coll
 TEST_CASE("png encoder: CRCs and a known small image", "[collection][motion]") {
   // CRC-32 check value of "123456789"
   const std::string s = "123456789";
-  CHECK(detail::crc32(reinterpret_cast<const std::uint8_t*>(s.data()), s.size()) == 0xCBF43926U);
+  CHECK(lieservo::collection::detail::crc32(reinterpret_cast<const std::uint8_t*>(s.data()), s.size()) == 0xCBF43926U);
   GrayImage img(3, 2);
   img.at(0, 0) = 255;
   img.at(1, 2) = 7;
@@ -93,7 +93,7 @@ TEST_CASE("png encoder: CRCs and a known small image", "[collection][motion]") {
   while (pos < png.size()) {
     const std::uint32_t len = (std::uint32_t(png[pos]) << 24) | (std::uint32_t(png[pos + 1]) << 16) |
                               (std::uint32_t(png[pos + 2]) << 8) | std::uint32_t(png[pos + 3]);
-    const std::uint32_t crc = detail::crc32(png.data() + pos + 4, len + 4);
+    const std::uint32_t crc = lieservo::collection::detail::crc32(png.data() + pos + 4, len + 4);
     const std::size_t c = pos + 8 + len;
     CHECK(crc == ((std::uint32_t(png[c]) << 24) | (std::uint32_t(png[c + 1]) << 16) | (std::uint32_t(png[c + 2]) << 8) |
                   std::uint32_t(png[c + 3])));

@@ -1,14 +1,14 @@
-// The C++ data set reader (examples/collection/dataset_reader.hpp) on the real splits and on
+// The C++ data set reader (examples/dataset: lieservo_dataset/dataset_reader.hpp) on the real splits and on
 // synthetic malformed targets.csv files.
 #include <catch2/catch.hpp>
 
-#include "dataset_reader.hpp"
+#include <lieservo_dataset/dataset_reader.hpp>
 #include "test_support.hpp"
 
 #include <fstream>
 #include <string>
 
-using namespace lieservo::collection;
+using namespace lieservo::dataset;
 using Catch::Matchers::Contains;
 
 namespace {

@@ -1,15 +1,15 @@
-// The small JSON reader of examples/collection: the real parameter files (Infinity literals,
+// The shared JSON reader of examples/dataset (lieservo_dataset/json.hpp): the real parameter files (Infinity literals,
 // the malformed env_params.json) and synthetic malformed inputs (errors name file:line:col).
 #include <catch2/catch.hpp>
 
-#include "dataset_json.hpp"
+#include <lieservo_dataset/json.hpp>
 #include "test_support.hpp"
 
 #include <cmath>
 #include <fstream>
 #include <string>
 
-using namespace lieservo::collection;
+using namespace lieservo::dataset;
 using Catch::Matchers::Contains;
 
 namespace {
@@ -141,4 +141,32 @@ TEST_CASE("json: the real parameter files", "[collection][json][real-data]") {
   CHECK(e.string("robot") == "franka");
   REQUIRE(e.warnings.size() == 1);
   CHECK_THAT(e.warnings[0], Contains(env + ":1:") && Contains("stray ']'"));
+}
+
+TEST_CASE("json: typed access to any value names file:line:col, unreadable files name the path",
+          "[collection][json]") {
+  // (folded in from the former lieservo_adapters reader's tests: what the model card and
+  // processed_image_params.json loaders of examples/adapters rely on)
+  const JsonDocument d = parseJson("{\"a\": [1, -2.5e1, true, null],\n \"o\": {\"k\": {}}, \"s\": \"x\"}", "acc.json");
+  const auto& a = d.asArray(d.at(d.root, "a"), "a");
+  REQUIRE(a.size() == 4);
+  CHECK(d.asInt(a[0], "a[0]") == 1);
+  CHECK(d.asNumber(a[1], "a[1]") == -25.0);
+  CHECK(d.asBool(a[2], "a[2]"));
+  CHECK(a[3].isNull());
+  CHECK(d.at(d.at(d.root, "o"), "k").object.empty());
+  CHECK(d.asString(d.at(d.root, "s"), "s") == "x");
+  CHECK(d.root.find("missing") == nullptr);
+  CHECK(d.asInt(a[1], "a[1]") == -25);  // -2.5e1 is an exact integer
+  const JsonDocument h = parseJson("[0.5, 3e10]", "int.json");
+  CHECK_THROWS_WITH(h.asInt(h.root.array[0], "x"), Contains("int.json:1:2") && Contains("\"x\" must be an integer"));
+  CHECK_THROWS_WITH(h.asInt(h.root.array[1], "y"), Contains("int.json:1:7") && Contains("must be an integer"));
+  CHECK_THROWS_WITH(d.asNumber(a[2], "a[2]"), Contains("acc.json:1:19") && Contains("must be a number"));
+  CHECK_THROWS_WITH(d.asString(a[0], "a[0]"), Contains("acc.json:1:8") && Contains("must be a string"));
+  CHECK_THROWS_WITH(d.asArray(d.root, "top"), Contains("acc.json:1:1") && Contains("must be an array"));
+  CHECK_THROWS_WITH(d.at(d.at(d.root, "o"), "x"), Contains("acc.json:2:7") && Contains("missing key \"x\""));
+  CHECK_THROWS_WITH(d.at(a[0], "x"), Contains("acc.json:1:8") && Contains("expected a JSON object"));
+  CHECK_THROWS_AS(readJsonFile("/nonexistent/dir/params.json"), DatasetError);
+  CHECK_THROWS_WITH(readJsonFile("/nonexistent/dir/params.json"),
+                    Contains("/nonexistent/dir/params.json") && Contains("cannot open"));
 }

@@ -144,3 +144,49 @@ TEST_CASE("preprocessing: the data set's processed images", "[perception][prepro
     CHECK(cv::countNonZero(remasked != raw8) == 0);
   }
 }
+
+// processed_image_params.json goes through the shared JSON reader (examples/dataset):
+// malformed files and wrongly typed values name the file, line and column.
+TEST_CASE("preprocessing: params file errors name the path (and line:column)", "[perception][preprocessing][json]") {
+  CHECK_THROWS_WITH(PreprocessParams::fromJsonFile("/nonexistent/dir/params.json"),
+                    Catch::Contains("/nonexistent/dir/params.json") && Catch::Contains("cannot open"));
+  const std::string dir = perception_test::makeTempDir("json");
+  const std::string bad = dir + "/processed_image_params.json";
+  std::ofstream(bad) << "{\"gray\": true, \"bbox\": [105, 20, 550 460]}";
+  CHECK_THROWS_WITH(PreprocessParams::fromJsonFile(bad), Catch::Contains(bad + ":1:"));
+  std::ofstream(bad) << "{\"gray\": true, \"bbox\": [105, 20, 550]}";
+  CHECK_THROWS_WITH(PreprocessParams::fromJsonFile(bad),
+                    Catch::Contains(bad + ":1:24") && Catch::Contains("bbox should have 4 entries"));
+  std::ofstream(bad) << "{\"gray\": true, \"bbox\": [105, 20.5, 550, 460]}";
+  CHECK_THROWS_WITH(PreprocessParams::fromJsonFile(bad), Catch::Contains(bad + ":1:30") && Catch::Contains("integer"));
+  std::ofstream(bad) << "{\"gray\": \"yes\"}";
+  CHECK_THROWS_WITH(PreprocessParams::fromJsonFile(bad), Catch::Contains(bad + ":1:10") && Catch::Contains("gray"));
+  std::ofstream(bad) << "{\"bbox\": [105, 20, 700, 460]}";
+  CHECK_THROWS_WITH(PreprocessParams::fromJsonFile(bad), Catch::Contains(bad) && Catch::Contains("outside"));
+  std::ofstream(bad) << "{\"thresh\": [60, 5]}";
+  CHECK_THROWS_WITH(PreprocessParams::fromJsonFile(bad), Catch::Contains("odd"));
+  std::ofstream(bad) << "{\"gray\": true, \"thresh\": false, \"circle_mask_radius\": null, \"dims\": [64, 64], \"z\": [Infinity]}";
+  const PreprocessParams ok = PreprocessParams::fromJsonFile(bad);
+  CHECK(ok.gray);
+  CHECK_FALSE(ok.threshold);
+  CHECK(ok.circle_mask_radius == 0);
+  CHECK(ok.output_size == 64);
+  perception_test::removeTree(dir);
+}
+
+TEST_CASE("preprocessing: the data set's processed_image_params.json", "[perception][preprocessing][json][data]") {
+  const std::string val = std::string(LIESERVO_DATA_DIR) + "/val";
+  if (!perception_test::exists(val + "/processed_image_params.json")) {
+    WARN("TacTip data not found under " << LIESERVO_DATA_DIR << ": skipping");
+    return;
+  }
+  const PreprocessParams p = PreprocessParams::fromJsonFile(val + "/processed_image_params.json");
+  CHECK(p.gray);
+  CHECK(p.bbox == cv::Rect(105, 20, 445, 440));
+  CHECK(p.processedSize() == cv::Size(445, 440));
+  CHECK(p.threshold);
+  CHECK(p.threshold_block == 61);
+  CHECK(p.threshold_c == 5.0);
+  CHECK(p.circle_mask_radius == 230);
+  CHECK(p.output_size == 128);
+}

@@ -22,7 +22,7 @@ struct Wide {
 
 }  // namespace
 
-TEST_CASE("channel: nothing to read before the first write; then the newest value", "[realtime][channel]") {
+TEST_CASE("channel: nothing to read before the first write, then the newest value", "[realtime][channel]") {
   LatestValueChannel<Wide> ch;
   Wide w{};
   ChannelStamp st;

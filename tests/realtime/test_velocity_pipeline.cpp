@@ -95,7 +95,7 @@ TEST_CASE("pipeline: pressing along the sensor z moves the arm down in the base 
   CHECK(arm.p.z() == Approx(0.3 - 0.01 * 1.0).margin(5e-4));  // ≈1 s at 10 mm/s, minus the ramp
 }
 
-TEST_CASE("pipeline: stale commands and stop requests ramp to zero; rearm resumes", "[realtime][pipeline]") {
+TEST_CASE("pipeline: stale commands and stop requests ramp to zero, rearm resumes", "[realtime][pipeline]") {
   CartesianVelocityPipeline pipe;
   REQUIRE(pipe.configure(options()) == Status::ok);
   FakeArm arm;
@@ -136,7 +136,7 @@ TEST_CASE("pipeline: stale commands and stop requests ramp to zero; rearm resume
   CHECK(check.worst_norm <= 1 + 1e-9);
 }
 
-TEST_CASE("pipeline: bad pose or command → Status, output and state unchanged; stepStopping ramps", "[realtime][pipeline]") {
+TEST_CASE("pipeline: bad pose or command -> Status, output and state unchanged, stepStopping ramps", "[realtime][pipeline]") {
   CartesianVelocityPipeline pipe;
   REQUIRE(pipe.configure(options()) == Status::ok);
   FakeArm arm;

@@ -60,7 +60,7 @@ TEST_CASE("watchdog: arms after N fresh commands, trips on timeout, re-arms by i
   CHECK(w.tripCount() == 1);
 }
 
-TEST_CASE("watchdog: contact loss stops; latched until rearm()", "[realtime][watchdog]") {
+TEST_CASE("watchdog: contact loss stops, latched until rearm()", "[realtime][watchdog]") {
   CommandWatchdog w;
   WatchdogOptions o;
   o.rearm_fresh_commands = 1;
@@ -103,7 +103,7 @@ TEST_CASE("watchdog: unlatched contact loss re-arms only on commands in contact"
   CHECK(w.passCommands());
 }
 
-TEST_CASE("watchdog: contact-loss stop can be disabled; external trip needs rearm", "[realtime][watchdog]") {
+TEST_CASE("watchdog: contact-loss stop can be disabled, external trip needs rearm", "[realtime][watchdog]") {
   CommandWatchdog w;
   WatchdogOptions o;
   o.rearm_fresh_commands = 1;

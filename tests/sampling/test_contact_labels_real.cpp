@@ -7,7 +7,7 @@
 #include <lieservo/sampling.hpp>
 #include <lieservo/units.hpp>
 
-#include "dataset_reader.hpp"
+#include <lieservo_dataset/dataset_reader.hpp>
 #include "goodness_of_fit.hpp"
 #include "test_support.hpp"
 
@@ -19,7 +19,7 @@
 
 using lieservo::SE3;
 using namespace lieservo::sampling;
-namespace col = lieservo::collection;
+namespace col = lieservo::dataset;
 
 namespace {
 

@@ -6,11 +6,15 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "lieservo_adapters/json.hpp"
+#include <lieservo_dataset/json.hpp>
 
 namespace lieservo::adapters {
 
 namespace {
+
+using lieservo::dataset::DatasetError;
+using lieservo::dataset::JsonDocument;
+using lieservo::dataset::JsonValue;
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -34,12 +38,12 @@ double unitFactor(const std::string& unit, const std::string& where) {
 
 /// Units of the six μ components from either an array of strings or the project's
 /// free-text form "mu: mm, mm, mm, deg, deg, deg; sigma_inv: ..." (or "mm, mm, ... deg").
-std::array<std::string, 6> parseUnits(const JsonValue& v, const std::string& where) {
+std::array<std::string, 6> parseUnits(const JsonDocument& doc, const JsonValue& v, const std::string& where) {
   std::vector<std::string> tokens;
   if (v.isArray()) {
-    for (const auto& e : v.asArray(where)) tokens.push_back(trim(e.asString(where)));
+    for (const auto& e : v.array) tokens.push_back(trim(doc.asString(e, where)));
   } else {
-    std::string text = v.asString(where);
+    std::string text = doc.asString(v, where);
     const auto mu = text.find("mu:");
     if (mu != std::string::npos) text = text.substr(mu + 3);
     const auto semi = text.find(';');
@@ -55,10 +59,10 @@ std::array<std::string, 6> parseUnits(const JsonValue& v, const std::string& whe
   return out;
 }
 
-int lastNumber(const JsonValue& shape, const std::string& where) {
-  const auto& a = shape.asArray(where);
-  if (a.empty()) throw std::runtime_error(where + ": empty shape");
-  return a.back().asInt(where + " (last entry)");
+int lastNumber(const JsonDocument& doc, const JsonValue& shape, const std::string& where) {
+  const auto& a = doc.asArray(shape, where);
+  if (a.empty()) doc.fail(shape, where + ": empty shape");
+  return doc.asInt(a.back(), where + " (last entry)");
 }
 
 std::string dirOf(const std::string& path) {
@@ -74,28 +78,31 @@ bool fileExists(const std::string& path) {
 }  // namespace
 
 ModelCard ModelCard::fromJsonFile(const std::string& path, ModelKind kind) {
-  const JsonValue doc = readJsonFile(path);
+  // The shared reader (examples/dataset): malformed input and wrongly typed or missing
+  // entries throw DatasetError naming "<path>:<line>:<col>".
+  const JsonDocument doc = lieservo::dataset::readJsonFile(path);
   ModelCard c;
   c.kind = kind;
   const std::string k = kindName(kind);
   try {
-    if (!doc.isObject()) throw std::runtime_error("top level should be an object");
-    if (const JsonValue* models = doc.find("models")) {
-      const JsonValue* e = models->find(k);
-      if (e == nullptr) throw std::runtime_error("no entry models." + k + " (model not exported yet?)");
-      if (const JsonValue* f = e->find("file")) c.onnx_file = f->asString("models." + k + ".file");
-      const JsonValue& in = e->at("input");
-      c.input_size = lastNumber(in.at("shape"), "models." + k + ".input.shape");
-      const JsonValue& out = e->at("output");
-      c.outputs = lastNumber(out.at("shape"), "models." + k + ".output.shape");
-      c.units = parseUnits(out.at("units"), "models." + k + ".output.units");
+    const JsonValue& r = doc.root;
+    if (!r.isObject()) doc.fail(r, "top level should be an object");
+    if (const JsonValue* models = r.find("models")) {
+      const JsonValue* e = models->isObject() ? models->find(k) : nullptr;
+      if (e == nullptr) doc.fail(*models, "no entry models." + k + " (model not exported yet?)");
+      if (const JsonValue* f = e->find("file")) c.onnx_file = doc.asString(*f, "models." + k + ".file");
+      const JsonValue& in = doc.at(*e, "input");
+      c.input_size = lastNumber(doc, doc.at(in, "shape"), "models." + k + ".input.shape");
+      const JsonValue& out = doc.at(*e, "output");
+      c.outputs = lastNumber(doc, doc.at(out, "shape"), "models." + k + ".output.shape");
+      c.units = parseUnits(doc, doc.at(out, "units"), "models." + k + ".output.units");
     } else {
-      const std::string declared = doc.at("kind").asString("kind");
+      const std::string declared = doc.asString(doc.at(r, "kind"), "kind");
       if (declared != k) throw std::runtime_error("card is for a \"" + declared + "\" model, not \"" + k + "\"");
-      if (const JsonValue* f = doc.find("file")) c.onnx_file = f->asString("file");
-      c.input_size = doc.at("input_size").asInt("input_size");
-      c.outputs = doc.at("outputs").asInt("outputs");
-      c.units = parseUnits(doc.at("output_units"), "output_units");
+      if (const JsonValue* f = r.find("file")) c.onnx_file = doc.asString(*f, "file");
+      c.input_size = doc.asInt(doc.at(r, "input_size"), "input_size");
+      c.outputs = doc.asInt(doc.at(r, "outputs"), "outputs");
+      c.units = parseUnits(doc, doc.at(r, "output_units"), "output_units");
     }
     for (std::size_t i = 0; i < 6; ++i)
       c.to_library[i] = unitFactor(c.units[i], "unit of component " + std::to_string(i + 1));
@@ -104,6 +111,8 @@ ModelCard ModelCard::fromJsonFile(const std::string& path, ModelKind kind) {
       throw std::runtime_error("a " + k + " model should have " + std::to_string(expected) + " outputs, card says " +
                                std::to_string(c.outputs));
     if (c.input_size <= 0) throw std::runtime_error("input size must be positive");
+  } catch (const DatasetError&) {
+    throw;  // already names the file, line and column
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(path + ": " + e.what());
   }

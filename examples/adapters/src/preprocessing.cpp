@@ -6,7 +6,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "lieservo_adapters/json.hpp"
+#include <lieservo_dataset/json.hpp>
 
 namespace lieservo::adapters {
 
@@ -48,39 +48,46 @@ void PreprocessParams::validate() const {
 }
 
 PreprocessParams PreprocessParams::fromJsonFile(const std::string& path) {
-  const JsonValue doc = readJsonFile(path);  // names file/line/column on malformed input
+  // The shared reader (examples/dataset): Python's Infinity/NaN accepted; malformed input and
+  // wrongly typed values throw DatasetError naming "<path>:<line>:<col>".
+  using lieservo::dataset::DatasetError;
+  using lieservo::dataset::JsonValue;
+  const lieservo::dataset::JsonDocument doc = lieservo::dataset::readJsonFile(path);
   PreprocessParams p;
   try {
-    if (!doc.isObject()) throw std::runtime_error("top level should be an object");
-    if (const JsonValue* v = doc.find("gray")) p.gray = v->asBool("gray");
-    if (const JsonValue* v = doc.find("bbox"); v != nullptr && !v->isNull()) {
-      const auto& a = v->asArray("bbox");
-      if (a.size() != 4) throw std::runtime_error("bbox should have 4 entries [x0, y0, x1, y1]");
-      const int x0 = a[0].asInt("bbox[0]"), y0 = a[1].asInt("bbox[1]");
-      const int x1 = a[2].asInt("bbox[2]"), y1 = a[3].asInt("bbox[3]");
+    if (!doc.root.isObject()) doc.fail(doc.root, "top level should be an object");
+    const JsonValue& r = doc.root;
+    if (const JsonValue* v = r.find("gray")) p.gray = doc.asBool(*v, "gray");
+    if (const JsonValue* v = r.find("bbox"); v != nullptr && !v->isNull()) {
+      const auto& a = doc.asArray(*v, "bbox");
+      if (a.size() != 4) doc.fail(*v, "bbox should have 4 entries [x0, y0, x1, y1]");
+      const int x0 = doc.asInt(a[0], "bbox[0]"), y0 = doc.asInt(a[1], "bbox[1]");
+      const int x1 = doc.asInt(a[2], "bbox[2]"), y1 = doc.asInt(a[3], "bbox[3]");
       p.bbox = cv::Rect(x0, y0, x1 - x0, y1 - y0);
     }
-    if (const JsonValue* v = doc.find("thresh")) {
-      if (v->isNull() || (v->isBool() && !v->asBool())) {
+    if (const JsonValue* v = r.find("thresh")) {
+      if (v->isNull() || (v->isBool() && !v->boolean)) {
         p.threshold = false;
       } else {
-        const auto& a = v->asArray("thresh");
-        if (a.size() != 2) throw std::runtime_error("thresh should be [block_size, C]");
+        const auto& a = doc.asArray(*v, "thresh");
+        if (a.size() != 2) doc.fail(*v, "thresh should be [block_size, C]");
         p.threshold = true;
-        p.threshold_block = a[0].asInt("thresh[0]");
-        p.threshold_c = a[1].asNumber("thresh[1]");
+        p.threshold_block = doc.asInt(a[0], "thresh[0]");
+        p.threshold_c = doc.asNumber(a[1], "thresh[1]");
       }
     }
-    if (const JsonValue* v = doc.find("circle_mask_radius")) {
-      p.circle_mask_radius = v->isNull() ? 0 : v->asInt("circle_mask_radius");
+    if (const JsonValue* v = r.find("circle_mask_radius")) {
+      p.circle_mask_radius = v->isNull() ? 0 : doc.asInt(*v, "circle_mask_radius");
     }
-    if (const JsonValue* v = doc.find("dims"); v != nullptr && !v->isNull()) {
-      const auto& a = v->asArray("dims");
-      if (a.size() != 2 || a[0].asInt("dims[0]") != a[1].asInt("dims[1]"))
-        throw std::runtime_error("dims should be a square [n, n]");
-      p.output_size = a[0].asInt("dims[0]");
+    if (const JsonValue* v = r.find("dims"); v != nullptr && !v->isNull()) {
+      const auto& a = doc.asArray(*v, "dims");
+      if (a.size() != 2 || doc.asInt(a[0], "dims[0]") != doc.asInt(a[1], "dims[1]"))
+        doc.fail(*v, "dims should be a square [n, n]");
+      p.output_size = doc.asInt(a[0], "dims[0]");
     }
     p.validate();
+  } catch (const DatasetError&) {
+    throw;  // already names the file, line and column
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(path + ": " + e.what());
   }

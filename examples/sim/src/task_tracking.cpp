@@ -75,7 +75,7 @@ TrackingResult runObjectTracking(const TaskOptions& opt) {
   if (ctrl.configurationStatus() != Status::ok) throw SceneError("object tracking preset rejected");
 
   // duration_scale < 1 shortens the legs at the same speeds (shorter moves, shorter times).
-  const double S = std::min(1.0, std::max(0.2, opt.duration_scale));
+  const double S = std::min(1.0, std::max(0.1, opt.duration_scale));
   const double leg_time = 12.0 * S, hold = 1.0;
   const double L = 200 * S, A = deg(60) * S;
   std::vector<Leg> legs;

@@ -87,7 +87,8 @@ ConcentratedGaussian<G> transform(const ConcentratedGaussian<G>& x, const G& T_b
 
 /// Checked version of transform (eqn:se3_rv_probabilistic_transform_2): x must validate, T̄
 /// must be a valid group element, Σφ finite symmetric positive semi-definite (0 allowed);
-/// the result must be finite and SPD (else numerical_failure). `out` may alias `x`.
+/// the result must be finite and SPD (else numerical_failure; a rounding-level loss of
+/// definiteness is repaired by est_detail::repairSpd). `out` may alias `x`.
 template <class G>
 Status transform(const ConcentratedGaussian<G>& x, const G& T_bar,
                  const typename G::Jacobian& Sigma_phi, ConcentratedGaussian<G>& out) noexcept {
@@ -100,7 +101,7 @@ Status transform(const ConcentratedGaussian<G>& x, const G& T_bar,
   ConcentratedGaussian<G> r = transform(x, T_bar, Sigma_phi);
   r.mean.normalize();
   if (!r.mean.allFinite() || !r.covariance.allFinite()) return Status::numerical_failure;
-  if (est_detail::checkSpd(r.covariance) != Status::ok) return Status::numerical_failure;
+  if (est_detail::repairSpd(r.covariance) != Status::ok) return Status::numerical_failure;
   out = r;
   return Status::ok;
 }
@@ -148,9 +149,8 @@ Status fromTangentCovariance(const typename G::Tangent& mu, const typename G::Ja
   r.mean = G::exp(mu);
   const typename G::Jacobian J = Policy::template forward<G>(mu);
   r.covariance = J * Sigma_xi * J.transpose();
-  est_detail::symmetrize(r.covariance);
   if (!r.mean.allFinite() || !r.covariance.allFinite()) return Status::numerical_failure;
-  if (est_detail::checkSpd(r.covariance) != Status::ok) return Status::numerical_failure;
+  if (est_detail::repairSpd(r.covariance) != Status::ok) return Status::numerical_failure;
   out = r;
   return Status::ok;
 }

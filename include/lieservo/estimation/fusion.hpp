@@ -17,7 +17,8 @@
 // (the information matrix, never formed explicitly) and c = Qᵀb, so μ = −R⁻¹c and
 // Σ = R⁻¹R⁻ᵀ. This avoids squaring the condition number (covariance eigenvalues anywhere in
 // [1e-12, 1e12] stay representable), is allocation-free (fixed-size storage for up to
-// kMaxFusionFactors factors) and the result is symmetrised and checked to be SPD.
+// kMaxFusionFactors factors) and the result is symmetrised and checked to be SPD (a
+// rounding-level loss of definiteness is repaired by a relative diagonal load of 1024 eps).
 #pragma once
 
 #include <cmath>
@@ -76,29 +77,27 @@ template <class Mat>
 void householderTriangularize(Mat& M, int nrows, int tri_cols) noexcept {
   using Scalar = typename Mat::Scalar;
   constexpr int C = Mat::ColsAtCompileTime;
-  constexpr int RMax = Mat::RowsAtCompileTime;
-  Scalar v[RMax];  // the scaled reflector below the diagonal, computed once per column
   for (int k = 0; k < tri_cols && k < nrows; ++k) {
     Scalar scale(0);
     for (int i = k; i < nrows; ++i) scale = std::max(scale, std::abs(M(i, k)));
     if (!(scale > Scalar(0)) || !std::isfinite(scale)) continue;
     Scalar sigma2(0);
     for (int i = k + 1; i < nrows; ++i) {
-      v[i] = M(i, k) / scale;
-      sigma2 += v[i] * v[i];
+      const Scalar v = M(i, k) / scale;
+      sigma2 += v * v;
     }
     if (sigma2 == Scalar(0)) continue;  // nothing below the diagonal
     const Scalar x0 = M(k, k) / scale;
     Scalar alpha = std::sqrt(x0 * x0 + sigma2);
     if (x0 > Scalar(0)) alpha = -alpha;  // v0 = x0 − alpha never cancels
     const Scalar v0 = x0 - alpha;
-    const Scalar beta = Scalar(2) / (v0 * v0 + sigma2);
+    const Scalar vtv = v0 * v0 + sigma2;
     for (int j = k + 1; j < C; ++j) {
       Scalar s = v0 * M(k, j);
-      for (int i = k + 1; i < nrows; ++i) s += v[i] * M(i, j);
-      const Scalar f = beta * s;
+      for (int i = k + 1; i < nrows; ++i) s += (M(i, k) / scale) * M(i, j);
+      const Scalar f = Scalar(2) * s / vtv;
       M(k, j) -= f * v0;
-      for (int i = k + 1; i < nrows; ++i) M(i, j) -= f * v[i];
+      for (int i = k + 1; i < nrows; ++i) M(i, j) -= f * (M(i, k) / scale);
     }
     M(k, k) = alpha * scale;
     for (int i = k + 1; i < nrows; ++i) M(i, k) = Scalar(0);
@@ -188,7 +187,6 @@ Status fuse(const ConcentratedGaussian<G>* factors, int count,
 
   // Validate each factor and factorise its covariance once (Σ_i = L_i L_iᵀ).
   Jacobian L[kMaxFusionFactors];
-  Jacobian Linv[kMaxFusionFactors];  // L_i⁻¹, formed once per call (whitening of factor i)
   G inv_mean[kMaxFusionFactors];
   for (int i = 0; i < count; ++i) {
     Status s = est_detail::checkGroupElement(factors[i].mean);
@@ -196,8 +194,6 @@ Status fuse(const ConcentratedGaussian<G>* factors, int count,
     s = est_detail::choleskyChecked(factors[i].covariance, L[i]);
     if (s != Status::ok) return s;
     inv_mean[i] = factors[i].mean.inverse();
-    Linv[i].setIdentity();
-    est_detail::lowerSolveInPlace(L[i], Linv[i]);
   }
 
   G X = factors[0].mean;  // operating point X̄ ← X̄_1
@@ -219,8 +215,11 @@ Status fuse(const ConcentratedGaussian<G>* factors, int count,
     for (int i = 0; i < count; ++i) {
       Jacobian Jinv;
       const Tangent xi = Policy::logAndInverse(X * inv_mean[i], Jinv);  // ξ_i, J(ξ_i)⁻¹
-      // A_i = L_i⁻¹ J_i⁻¹ (so A_iᵀA_i = J_i⁻ᵀ Σ_i⁻¹ J_i⁻¹), b_i = L_i⁻¹ ξ_i: fixed-size products
-      info.add(Linv[i] * Jinv, Linv[i] * xi);
+      Jacobian A = Jinv;  // → L_i⁻¹ J_i⁻¹ (so A_iᵀA_i = J_i⁻ᵀ Σ_i⁻¹ J_i⁻¹)
+      Tangent b = xi;     // → L_i⁻¹ ξ_i
+      est_detail::lowerSolveInPlace(L[i], A);
+      est_detail::lowerSolveInPlace(L[i], b);
+      info.add(A, b);
     }
     info.compress();
     R = info.R();
@@ -245,10 +244,11 @@ Status fuse(const ConcentratedGaussian<G>* factors, int count,
   Jacobian Rinv = Jacobian::Identity();
   est_detail::upperSolveInPlace(R, Rinv);
   Jacobian Sigma = Rinv * Rinv.transpose();
-  est_detail::symmetrize(Sigma);
   if (!X.allFinite() || !Sigma.allFinite() || !std::isfinite(step))
     return Status::numerical_failure;
-  if (est_detail::checkSpd(Sigma) != Status::ok) return Status::numerical_failure;
+  // R⁻¹R⁻ᵀ is SPD in exact arithmetic; rounding can break that when its eigenvalues span more
+  // than ~1/eps in a rotated basis: symmetrise, and repair with a rounding-level diagonal load.
+  if (est_detail::repairSpd(Sigma) != Status::ok) return Status::numerical_failure;
 
   result.fused.mean = X;
   result.fused.covariance = Sigma;

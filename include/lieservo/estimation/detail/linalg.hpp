@@ -152,6 +152,35 @@ void symmetrize(Mat& S) noexcept {
     }
 }
 
+/// Relative diagonal load used by repairSpd: 1024 eps (2.3e-13 double, 1.2e-4 float).
+template <class Scalar>
+Scalar spdRepairLoad() noexcept {
+  return Scalar(1024) * std::numeric_limits<Scalar>::epsilon();
+}
+
+/// Makes a computed covariance usable: symmetrises it and, if rounding has made it fail the
+/// SPD test (which happens when its condition number in a non-axis-aligned basis exceeds
+/// ~1/eps — e.g. variances spanning 1e-12..1e12 mixed by a Jacobian), adds the conservative
+/// relative diagonal load S_ii ← S_ii (1 + spdRepairLoad()) and tests again. The load changes
+/// each variance by at most 2.3e-13 (double) relative. Status: ok, or numerical_failure
+/// (non-finite, non-positive diagonal, or still not SPD).
+template <class Mat>
+Status repairSpd(Mat& S) noexcept {
+  symmetrize(S);
+  if (!S.allFinite()) return Status::numerical_failure;
+  if (checkSpd(S) == Status::ok) return Status::ok;
+  constexpr int n = Mat::RowsAtCompileTime;
+  Mat loaded = S;
+  const auto load = spdRepairLoad<typename Mat::Scalar>();
+  for (int i = 0; i < n; ++i) {
+    if (!(S(i, i) > 0)) return Status::numerical_failure;
+    loaded(i, i) += load * S(i, i);
+  }
+  if (!loaded.allFinite() || checkSpd(loaded) != Status::ok) return Status::numerical_failure;
+  S = loaded;
+  return Status::ok;
+}
+
 /// Checks a group element: finite, orthonormal rotation with det +1 (through the core's
 /// checked constructor G::fromMatrix).
 template <class G>

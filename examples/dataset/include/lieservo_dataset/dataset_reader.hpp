@@ -1,7 +1,7 @@
-// examples/collection/dataset_reader.hpp — reads a pose-and-shear data set split
+// lieservo_dataset/dataset_reader.hpp — reads a pose-and-shear data set split
 // (targets.csv + parameter JSON files + processed_images/), the shared TacTip data's format
-// and the format lieservo_collect writes. Header-only; used by the collection tests and
-// the replay example.
+// and the format lieservo_collect writes. Header-only, no OpenCV; used by
+// examples/collection and the collection and sampling tests.
 //
 // targets.csv columns (mm, degrees, extrinsic-xyz Euler angles):
 //   sensor_image,pose_x,pose_y,pose_z,pose_Rx,pose_Ry,pose_Rz,shear_x,shear_y,shear_z,
@@ -13,7 +13,7 @@
 // Errors throw DatasetError naming "<file>:<line>:<column>".
 #pragma once
 
-#include "dataset_json.hpp"
+#include "lieservo_dataset/json.hpp"
 
 #include <Eigen/Core>
 
@@ -28,7 +28,7 @@
 #include <string_view>
 #include <vector>
 
-namespace lieservo::collection {
+namespace lieservo::dataset {
 
 inline constexpr std::array<const char*, 13> kTargetColumns = {
     "sensor_image", "pose_x",  "pose_y",  "pose_z",   "pose_Rx",  "pose_Ry", "pose_Rz",
@@ -293,4 +293,4 @@ inline DatasetSplit readDatasetSplit(const std::string& dir, const DatasetReadOp
   return s;
 }
 
-}  // namespace lieservo::collection
+}  // namespace lieservo::dataset

@@ -1,4 +1,5 @@
-// examples/collection/dataset_json.hpp — a small JSON reader/writer for the data set's parameter files.
+// lieservo_dataset/json.hpp — the project's one JSON reader/writer (header-only, no OpenCV): the
+// data set's parameter files, lieservo_collect's output and the ONNX model cards.
 //
 // Reads standard JSON plus the Python json module's non-standard literals Infinity,
 // -Infinity and NaN (the shared meta.json uses them). With JsonParseOptions::repair_stray_closers
@@ -24,7 +25,7 @@
 #include <utility>
 #include <vector>
 
-namespace lieservo::collection {
+namespace lieservo::dataset {
 
 /// Any problem reading or writing a data set file; what() names the file (and line:column).
 class DatasetError : public std::runtime_error {
@@ -97,6 +98,41 @@ struct JsonDocument {
     if (!v.isString()) fail(v, "\"" + std::string(key) + "\" must be a string");
     return v.string;
   }
+
+  // Typed access to any value of this document; a mismatch throws DatasetError naming
+  // "<name>:<line>:<col>" of the value and `what` (e.g. "bbox[0]").
+  const JsonValue& at(const JsonValue& obj, std::string_view key) const {
+    if (!obj.isObject()) fail(obj, "expected a JSON object");
+    const JsonValue* v = obj.find(key);
+    if (v == nullptr) fail(obj, "missing key \"" + std::string(key) + "\"");
+    return *v;
+  }
+  bool asBool(const JsonValue& v, std::string_view what) const {
+    if (!v.isBool()) fail(v, "\"" + std::string(what) + "\" must be true or false");
+    return v.boolean;
+  }
+  double asNumber(const JsonValue& v, std::string_view what) const {
+    if (!v.isNumber()) fail(v, "\"" + std::string(what) + "\" must be a number");
+    return v.number;
+  }
+  /// A number that is an exact integer in int range.
+  int asInt(const JsonValue& v, std::string_view what) const {
+    const double x = asNumber(v, what);
+    if (!(x >= static_cast<double>(std::numeric_limits<int>::min()) &&
+          x <= static_cast<double>(std::numeric_limits<int>::max()) && std::floor(x) == x)) {
+      fail(v, "\"" + std::string(what) + "\" must be an integer");
+    }
+    return static_cast<int>(x);
+  }
+  const std::string& asString(const JsonValue& v, std::string_view what) const {
+    if (!v.isString()) fail(v, "\"" + std::string(what) + "\" must be a string");
+    return v.string;
+  }
+  const std::vector<JsonValue>& asArray(const JsonValue& v, std::string_view what) const {
+    if (!v.isArray()) fail(v, "\"" + std::string(what) + "\" must be an array");
+    return v.array;
+  }
+
   /// An array of numbers; expected_size < 0: any size.
   std::vector<double> numbers(std::string_view key, int expected_size = -1) const {
     const JsonValue& v = member(key);
@@ -484,4 +520,4 @@ class JsonObjectWriter {
   std::string body_;
 };
 
-}  // namespace lieservo::collection
+}  // namespace lieservo::dataset
