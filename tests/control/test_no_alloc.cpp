@@ -1,12 +1,11 @@
-// No heap allocation per control step.  This executable replaces the global operator
-// new/delete (all forms) with counting versions; counting is switched on only around the
-// controller steps (Catch2's own allocations happen outside the window).
+// No heap allocation per control step: counting (tests/support/allocation_counter.hpp) is
+// switched on only around the controller steps.
 #include <catch2/catch.hpp>
 
-#include <atomic>
 #include <cmath>
-#include <cstdlib>
 #include <new>
+
+#include "allocation_counter.hpp"
 
 #include <lieservo/control.hpp>
 #include <lieservo/groups/se2.hpp>
@@ -14,60 +13,7 @@
 #include <lieservo/groups/so3.hpp>
 #include <lieservo/units.hpp>
 
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocations{0};
-
-void* countedAlloc(std::size_t n) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* countedAlignedAlloc(std::size_t n, std::align_val_t al) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  const std::size_t a = static_cast<std::size_t>(al);
-  void* p = nullptr;
-  if (posix_memalign(&p, a < sizeof(void*) ? sizeof(void*) : a, n ? n : 1) != 0) throw std::bad_alloc();
-  return p;
-}
-
-/// Counts allocations made while it is alive.
-struct AllocationWindow {
-  AllocationWindow() {
-    g_allocations = 0;
-    g_counting = true;
-  }
-  ~AllocationWindow() { g_counting = false; }
-  long count() const { return g_allocations.load(); }
-};
-}  // namespace
-
-void* operator new(std::size_t n) { return countedAlloc(n); }
-void* operator new[](std::size_t n) { return countedAlloc(n); }
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  try {
-    return countedAlloc(n);
-  } catch (...) {
-    return nullptr;
-  }
-}
-void* operator new[](std::size_t n, const std::nothrow_t&) noexcept {
-  try {
-    return countedAlloc(n);
-  } catch (...) {
-    return nullptr;
-  }
-}
-void* operator new(std::size_t n, std::align_val_t a) { return countedAlignedAlloc(n, a); }
-void* operator new[](std::size_t n, std::align_val_t a) { return countedAlignedAlloc(n, a); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+using AllocationWindow = lieservo::test::AllocationCounter;
 
 using namespace lieservo;
 using G = SE3<double>;

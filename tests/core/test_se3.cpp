@@ -31,6 +31,27 @@ TEST_CASE("SE3 series inverse Jacobian converges to the closed form", "[core][se
   lst::checkSeriesConvergence<lieservo::SE3d>("SE3");
 }
 
+// SE3 evaluates the series in 3×3 blocks (and N ≤ 2 directly); it must equal the plain 6×6
+// Horner evaluation in ad(ξ) (detail::inverseJacobianSeries) for every order.
+template <int N>
+static double blockSeriesDeviation(const lieservo::SE3d::Tangent& xi) {
+  const auto block = lieservo::SE3d::leftJacobianInverseSeries<N>(xi);
+  const auto dense = lieservo::detail::inverseJacobianSeries<lieservo::SE3d, N>(xi);
+  return (block - dense).cwiseAbs().maxCoeff() / (1.0 + dense.cwiseAbs().maxCoeff());
+}
+
+TEST_CASE("SE3 block series inverse Jacobian equals the dense Horner series", "[core][se3]") {
+  std::mt19937_64 rng(31);
+  for (int rep = 0; rep < 20000; ++rep) {
+    const lieservo::SE3d::Tangent xi = lst::randomTangent<lieservo::SE3d>(rng, 3.0, 50.0);
+    const double d[7] = {blockSeriesDeviation<0>(xi), blockSeriesDeviation<1>(xi),
+                         blockSeriesDeviation<2>(xi), blockSeriesDeviation<3>(xi),
+                         blockSeriesDeviation<4>(xi), blockSeriesDeviation<6>(xi),
+                         blockSeriesDeviation<9>(xi)};
+    for (double e : d) REQUIRE(e <= 1e-13);  // rounding order only
+  }
+}
+
 TEST_CASE("SE3 BCH approximations have O(|xi_small|^2) error", "[core][se3]") { lst::checkBch<lieservo::SE3d>(); }
 
 TEMPLATE_TEST_CASE("SE3 interpolation", "[core][se3]", float, double) { lst::checkInterpolate<SE3<TestType>>(500); }

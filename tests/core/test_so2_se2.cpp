@@ -54,3 +54,35 @@ TEST_CASE("SE2 Jacobian blocks match the hand-derived form", "[core][se2]") {
       0, 0, 1;
   CHECK((G::leftJacobian(G::Tangent(x, y, t)) - J).norm() <= 1e-15);
 }
+
+// Found by fuzz_log: the projection normalised (m00 + m11, m10 − m01) with a plain norm, which
+// overflowed above ~1e154 and underflowed below ~1e-154 while returning ok.
+TEMPLATE_TEST_CASE("SO2/SE2 projection to the nearest rotation at any finite scale", "[core][so2]",
+                   float, double) {
+  using S = TestType;
+  using G = lieservo::SO2<S>;
+  const S big = std::numeric_limits<S>::max(), tiny = std::numeric_limits<S>::denorm_min();
+  const S scales[] = {S(1), S(1e-30), S(1e30), big, big / S(3), std::numeric_limits<S>::min(),
+                      tiny, S(4) * tiny};
+  const S angle = S(0.7);
+  for (S k : scales) {
+    INFO("scale " << k);
+    typename G::Matrix M = G(angle).matrix() * k;
+    if (k == big) M << big, -big, big, big;  // both sums overflow in the naive formula
+    G out;
+    REQUIRE(G::fromMatrixProjected(M, out) == lieservo::Status::ok);
+    G chk;
+    CHECK(G::fromMatrix(out.matrix(), chk) == lieservo::Status::ok);
+    const S expected = k == big ? S(lieservo::pi<double>() / 4) : angle;
+    // A subnormal scale keeps only a few significant bits of (c, s).
+    const S tol = k <= S(4) * tiny ? S(0.5) : S(8) * std::numeric_limits<S>::epsilon();
+    CHECK(std::abs(out.angle() - expected) <= tol);
+    lieservo::SE2<S> pose;
+    typename lieservo::SE2<S>::Matrix H = lieservo::SE2<S>::Matrix::Identity();
+    H.template topLeftCorner<2, 2>() = M;
+    REQUIRE(lieservo::SE2<S>::fromMatrixProjected(H, pose) == lieservo::Status::ok);
+    CHECK(pose.so2().isApprox(out, S(0)));
+  }
+  G out;
+  CHECK(G::fromMatrixProjected(G::Matrix::Zero(), out) == lieservo::Status::invalid_argument);
+}

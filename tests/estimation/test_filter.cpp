@@ -1,10 +1,5 @@
 // The discriminative Bayesian filter (alg:se3_bayes_filter): linear-Kalman limit, statistical
 // consistency (NEES/NIS), gating, bad input, other groups, float vs double.
-// GCC 12 reports a false -Warray-bounds inside Eigen's SSE packet loads when SE3<float>::log()
-// (groups/se3.hpp, comma initialiser) is inlined at -O2; reported to the core owner.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Warray-bounds"
-#endif
 #include <catch2/catch.hpp>
 
 #include <cstdio>

@@ -1,9 +1,4 @@
 // Concentrated Gaussians, Jacobian policies, χ² helpers and data fusion (alg:se3_data_fusion).
-// GCC 12 reports a false -Warray-bounds inside Eigen's SSE packet loads when SE3<float>::log()
-// (groups/se3.hpp, comma initialiser) is inlined at -O2; reported to the core owner.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Warray-bounds"
-#endif
 #include <catch2/catch.hpp>
 
 #include <array>

@@ -1,110 +1,20 @@
-// Zero heap allocations per real-time step. This executable replaces the global operator
-// new/delete (C++17 [replacement.functions]) to count allocations while `g_counting` is set.
-// Under AddressSanitizer/ThreadSanitizer, which own the allocator and its new/delete, the
-// replacement is compiled out and the counting tests only WARN (the release build counts).
+// Zero heap allocations per real-time step, counted with tests/support/allocation_counter.hpp
+// (in every build, the sanitizer builds included).
 #include <catch2/catch.hpp>
-
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define LIESERVO_COUNT_ALLOCATIONS 0
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
-#define LIESERVO_COUNT_ALLOCATIONS 0
-#endif
-#endif
-#ifndef LIESERVO_COUNT_ALLOCATIONS
-#define LIESERVO_COUNT_ALLOCATIONS 1
-#endif
 
 #include <lieservo/realtime.hpp>
 
-#include <atomic>
-#include <cstdlib>
+#include "allocation_counter.hpp"
+
 #include <memory>
 #include <new>
 
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocations{0};
-
-[[maybe_unused]] void* countedAlloc(std::size_t n) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
-  throw std::bad_alloc();
-}
-[[maybe_unused]] void* countedAlignedAlloc(std::size_t n, std::align_val_t al) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  const std::size_t a = static_cast<std::size_t>(al);
-  const std::size_t size = ((n == 0 ? 1 : n) + a - 1) / a * a;
-  if (void* p = std::aligned_alloc(a, size)) return p;
-  throw std::bad_alloc();
-}
-
-// Counts allocations in the scope.
-struct Counting {
-  Counting() {
-    g_allocations.store(0);
-    g_counting.store(true);
-  }
-  ~Counting() { g_counting.store(false); }
-  long count() const { return g_allocations.load(); }
-};
-}  // namespace
-
-#if LIESERVO_COUNT_ALLOCATIONS
-void* operator new(std::size_t n) { return countedAlloc(n); }
-void* operator new[](std::size_t n) { return countedAlloc(n); }
-void* operator new(std::size_t n, std::align_val_t a) { return countedAlignedAlloc(n, a); }
-void* operator new[](std::size_t n, std::align_val_t a) { return countedAlignedAlloc(n, a); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  try {
-    return countedAlloc(n);
-  } catch (...) {
-    return nullptr;
-  }
-}
-void* operator new[](std::size_t n, const std::nothrow_t&) noexcept {
-  try {
-    return countedAlloc(n);
-  } catch (...) {
-    return nullptr;
-  }
-}
-void* operator new(std::size_t n, std::align_val_t a, const std::nothrow_t&) noexcept {
-  try {
-    return countedAlignedAlloc(n, a);
-  } catch (...) {
-    return nullptr;
-  }
-}
-void* operator new[](std::size_t n, std::align_val_t a, const std::nothrow_t&) noexcept {
-  try {
-    return countedAlignedAlloc(n, a);
-  } catch (...) {
-    return nullptr;
-  }
-}
-void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
-#endif
+using Counting = lieservo::test::AllocationCounter;
 
 using namespace lieservo::realtime;
 using lieservo::Status;
 
 TEST_CASE("alloc: the counter sees allocations (self-check)", "[realtime][alloc]") {
-  if (!LIESERVO_COUNT_ALLOCATIONS) {
-    WARN("allocation counting is disabled under sanitizers; run the release build");
-    return;
-  }
   long n = 0;
   {
     Counting c;
@@ -153,10 +63,6 @@ TEST_CASE("alloc: smoother, watchdog, latest-value hand-over, frames and pipelin
       (void)smoother.stoppingTimeBound(1e-3);
     }
     n = c.count();
-  }
-  if (!LIESERVO_COUNT_ALLOCATIONS) {
-    WARN("allocation counting is disabled under sanitizers; run the release build");
-    return;
   }
   CHECK(n == 0);
 }

@@ -123,6 +123,11 @@ class MimoPid {
     const Status s = validate(options);
     if (s != Status::ok) return s;
     options_ = options;
+    // The paper's gains are diagonal: then update() multiplies per channel (N instead of N²).
+    diagonal_gains_ = isDiagonal(options_.kp) && isDiagonal(options_.ki) && isDiagonal(options_.kd);
+    kp_diag_ = options_.kp.diagonal();
+    ki_diag_ = options_.ki.diagonal();
+    kd_diag_ = options_.kd.diagonal();
     integral_ = integral_.cwiseMax(options_.integral_min).cwiseMin(options_.integral_max);
     config_status_ = Status::ok;
     return Status::ok;
@@ -152,9 +157,15 @@ class MimoPid {
     }
     Terms t;
     t.feedforward = feedforward;
-    t.proportional.noalias() = options_.kp * error;
-    t.integral.noalias() = options_.ki * integral;
-    t.derivative.noalias() = options_.kd * derivative;
+    if (diagonal_gains_) {
+      t.proportional = kp_diag_.cwiseProduct(error);
+      t.integral = ki_diag_.cwiseProduct(integral);
+      t.derivative = kd_diag_.cwiseProduct(derivative);
+    } else {
+      t.proportional.noalias() = options_.kp * error;
+      t.integral.noalias() = options_.ki * integral;
+      t.derivative.noalias() = options_.kd * derivative;
+    }
     t.unclipped = t.feedforward + t.proportional + t.integral + t.derivative;
     t.output = t.unclipped.cwiseMax(options_.output_min).cwiseMin(options_.output_max);
     if (!t.output.allFinite() || !integral.allFinite() || !smoothed.allFinite() ||
@@ -206,6 +217,17 @@ class MimoPid {
   Terms terms_{};
   bool started_ = false;
   long steps_ = 0;
+  bool diagonal_gains_ = true;  // zero gains (the default) are diagonal
+  Vector kp_diag_ = Vector::Zero();
+  Vector ki_diag_ = Vector::Zero();
+  Vector kd_diag_ = Vector::Zero();
+
+  static bool isDiagonal(const Matrix& m) noexcept {
+    for (int j = 0; j < N; ++j)
+      for (int i = 0; i < N; ++i)
+        if (i != j && m(i, j) != Scalar(0)) return false;
+    return true;
+  }
 };
 
 /// Single-input single-output PID with feedforward (the paper's target-alignment "PID 2",

@@ -62,6 +62,7 @@ class TactileServoController {
     const Status p = pid_.configure(options.pid);
     if (p != Status::ok) return p;
     options_ = options;
+    feedforward_is_zero_ = options_.feedforward.isZero(Scalar(0));
     config_status_ = Status::ok;
     return Status::ok;
   }
@@ -77,6 +78,7 @@ class TactileServoController {
   Status setFeedforward(const Tangent& feedforward_in_reference) noexcept {
     if (!feedforward_in_reference.allFinite()) return Status::non_finite_input;
     options_.feedforward = feedforward_in_reference;
+    feedforward_is_zero_ = options_.feedforward.isZero(Scalar(0));
     return Status::ok;
   }
 
@@ -96,15 +98,15 @@ class TactileServoController {
 
     const G E = servoError(feature_in_sensor, options_.reference);   // X_ss'
     const Tangent e = E.log();                                       // eqn:local_tangent_space_error
-    const Jacobian ad = E.Ad();
-    const Tangent v = ad * options_.feedforward;                      // Ad(X_ss') u_s'2
+    // Ad(X_ss') u_s'2; most presets have no feedforward, and then Ad is not needed at all.
+    const Tangent v = feedforward_is_zero_ ? Tangent(Tangent::Zero())
+                                           : Tangent(E.Ad() * options_.feedforward);
     if (!e.allFinite() || !v.allFinite()) return Status::numerical_failure;
     Tangent out = Tangent::Zero();
     const Status s = pid_.update(e, v, dt, out);
     if (s != Status::ok) return s;
     error_pose_ = E;
     error_ = e;
-    adjoint_ = ad;
     feedforward_sensor_ = v;
     u = out;
     return Status::ok;
@@ -115,7 +117,6 @@ class TactileServoController {
     pid_.reset();
     error_pose_ = G::identity();
     error_ = Tangent::Zero();
-    adjoint_ = Jacobian::Identity();
     feedforward_sensor_ = Tangent::Zero();
   }
 
@@ -123,8 +124,8 @@ class TactileServoController {
   const G& poseError() const noexcept { return error_pose_; }
   /// e = log(E)^∨ of the last successful step.
   const Tangent& tangentError() const noexcept { return error_; }
-  /// Ad(X_ss') of the last successful step: maps twists in {s'} to {s}.
-  const Jacobian& referenceToSensorAdjoint() const noexcept { return adjoint_; }
+  /// Ad(X_ss') of the last successful step: maps twists in {s'} to {s} (formed on demand).
+  Jacobian referenceToSensorAdjoint() const noexcept { return error_pose_.Ad(); }
   /// v = Ad(X_ss') u_s'2 of the last successful step (feedforward in {s}).
   const Tangent& feedforwardInSensorFrame() const noexcept { return feedforward_sensor_; }
   const Pid& pid() const noexcept { return pid_; }
@@ -137,8 +138,8 @@ class TactileServoController {
   Pid pid_{};
   G error_pose_ = G::identity();
   Tangent error_ = Tangent::Zero();
-  Jacobian adjoint_ = Jacobian::Identity();
   Tangent feedforward_sensor_ = Tangent::Zero();
+  bool feedforward_is_zero_ = true;
 };
 
 }  // namespace lieservo

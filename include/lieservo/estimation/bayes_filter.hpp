@@ -141,11 +141,12 @@ class DiscriminativeBayesFilter {
     if (s != Status::ok) return diag_.last_status = s;
     const G T_bar = sensor_pose.inverse() * sensor_pose_;
     Gaussian bel;
-    s = predictInto(filtered_, T_bar, bel);
+    Jacobian L_bel;
+    s = predictInto(filtered_, T_bar, bel, L_bel);
     if (s != Status::ok) return diag_.last_status = s;
     Gaussian fil;
     Diagnostics d = diag_;
-    s = correctInto(bel, observation, fil, d);
+    s = correctInto(bel, L_bel, observation, fil, d);
     if (s != Status::ok && s != Status::outlier_rejected) return diag_.last_status = s;
     belief_ = bel;
     filtered_ = fil;
@@ -159,8 +160,11 @@ class DiscriminativeBayesFilter {
   Status predict(const G& T_bar) noexcept {
     if (options_status_ != Status::ok) return diag_.last_status = options_status_;
     if (!initialised_) return diag_.last_status = Status::not_initialised;
+    Status s = est_detail::checkGroupElement(T_bar);
+    if (s != Status::ok) return diag_.last_status = s;
     Gaussian bel;
-    const Status s = predictInto(filtered_, T_bar, bel);
+    Jacobian L_bel;
+    s = predictInto(filtered_, T_bar, bel, L_bel);
     if (s != Status::ok) return diag_.last_status = s;
     belief_ = bel;
     filtered_ = bel;
@@ -172,9 +176,12 @@ class DiscriminativeBayesFilter {
   Status correct(const Gaussian& observation) noexcept {
     if (options_status_ != Status::ok) return diag_.last_status = options_status_;
     if (!initialised_) return diag_.last_status = Status::not_initialised;
+    Jacobian L_bel;
+    Status s = est_detail::choleskyChecked(filtered_.covariance, L_bel);
+    if (s != Status::ok) return diag_.last_status = s;
     Gaussian fil;
     Diagnostics d = diag_;
-    const Status s = correctInto(filtered_, observation, fil, d);
+    s = correctInto(filtered_, L_bel, observation, fil, d);
     if (s != Status::ok && s != Status::outlier_rejected) return diag_.last_status = s;
     filtered_ = fil;
     diag_ = d;
@@ -201,13 +208,28 @@ class DiscriminativeBayesFilter {
   }
 
  private:
-  Status predictInto(const Gaussian& fil, const G& T_bar, Gaussian& bel) const noexcept {
-    return transform(fil, T_bar, options_.process_noise, bel);
+  // The state is valid at all times (reset validates it, fuse checks what it returns) and the
+  // options were validated by setOptions, so the step checks only what comes from outside: the
+  // sensor pose and the observation. T̄ is a product of valid elements. Each covariance is
+  // factorised once per step and its Cholesky factor handed on to the fusion.
+  Status predictInto(const Gaussian& fil, const G& T_bar, Gaussian& bel,
+                     Jacobian& L_bel) const noexcept {
+    Gaussian r = transform(fil, T_bar, options_.process_noise);  // eqn:bayes_filter_prediction
+    r.mean.normalize();
+    if (!r.mean.allFinite() || !est_detail::allFinite(r.covariance))
+      return Status::numerical_failure;
+    if (est_detail::repairSpd(r.covariance, &L_bel) != Status::ok)
+      return Status::numerical_failure;
+    bel = r;
+    return Status::ok;
   }
 
-  Status correctInto(const Gaussian& bel, const Gaussian& obs, Gaussian& fil,
-                     Diagnostics& d) const noexcept {
-    Status s = validate(obs);
+  Status correctInto(const Gaussian& bel, const Jacobian& L_bel, const Gaussian& obs,
+                     Gaussian& fil, Diagnostics& d) const noexcept {
+    Status s = est_detail::checkGroupElement(obs.mean);
+    if (s != Status::ok) return s;
+    Jacobian L_obs;
+    s = est_detail::choleskyChecked(obs.covariance, L_obs);
     if (s != Status::ok) return s;
     Scalar nis(0);
     s = normalizedInnovationSquared(obs, bel, nis);
@@ -222,7 +244,10 @@ class DiscriminativeBayesFilter {
       return Status::outlier_rejected;
     }
     FusionResult<G> r;
-    s = fuse<Policy>(obs, bel, options_.fusion, r);  // operating point starts at the observation
+    // alg:se3_data_fusion, the operating point starting at the observation (as the paper).
+    const G means[2] = {obs.mean, bel.mean};
+    const Jacobian L[2] = {L_obs, L_bel};
+    s = est_detail::fuseFactored<Policy>(means, L, 2, options_.fusion, r);
     if (s != Status::ok) return s;
     fil = r.fused;
     d.nis = nis;

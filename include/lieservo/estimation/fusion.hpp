@@ -11,8 +11,9 @@
 //     return (X̄, Σ)
 //
 // Numerics (docs/estimation.md): square-root information form. Each Σ_i is Cholesky-factorised
-// ONCE per call (Σ_i = L_i L_iᵀ, after an equilibrating diagonal scaling). Per iteration the
-// whitened factor rows A_i = L_i⁻¹ J_i⁻¹ and b_i = L_i⁻¹ ξ_i are obtained by triangular solves,
+// ONCE per call (Σ_i = L_i L_iᵀ, after an equilibrating diagonal scaling) and L_i⁻¹ formed once
+// (triangular). Per iteration the whitened factor rows A_i = L_i⁻¹ J_i⁻¹ and b_i = L_i⁻¹ ξ_i are
+// obtained by products,
 // stacked and reduced by Householder reflections to an upper-triangular R with RᵀR = Σ_i A_iᵀA_i
 // (the information matrix, never formed explicitly) and c = Qᵀb, so μ = −R⁻¹c and
 // Σ = R⁻¹R⁻ᵀ. This avoids squaring the condition number (covariance eigenvalues anywhere in
@@ -76,31 +77,70 @@ namespace est_detail {
 template <class Mat>
 void householderTriangularize(Mat& M, int nrows, int tri_cols) noexcept {
   using Scalar = typename Mat::Scalar;
+  constexpr int R = Mat::RowsAtCompileTime;
   constexpr int C = Mat::ColsAtCompileTime;
+  Scalar v[R];  // the scaled reflector below the diagonal (v_i = M(i, k) / scale)
   for (int k = 0; k < tri_cols && k < nrows; ++k) {
     Scalar scale(0);
     for (int i = k; i < nrows; ++i) scale = std::max(scale, std::abs(M(i, k)));
     if (!(scale > Scalar(0)) || !std::isfinite(scale)) continue;
     Scalar sigma2(0);
     for (int i = k + 1; i < nrows; ++i) {
-      const Scalar v = M(i, k) / scale;
-      sigma2 += v * v;
+      v[i] = M(i, k) / scale;
+      sigma2 += v[i] * v[i];
     }
     if (sigma2 == Scalar(0)) continue;  // nothing below the diagonal
     const Scalar x0 = M(k, k) / scale;
     Scalar alpha = std::sqrt(x0 * x0 + sigma2);
     if (x0 > Scalar(0)) alpha = -alpha;  // v0 = x0 − alpha never cancels
     const Scalar v0 = x0 - alpha;
-    const Scalar vtv = v0 * v0 + sigma2;
+    const Scalar two_over_vtv = Scalar(2) / (v0 * v0 + sigma2);
     for (int j = k + 1; j < C; ++j) {
-      Scalar s = v0 * M(k, j);
-      for (int i = k + 1; i < nrows; ++i) s += (M(i, k) / scale) * M(i, j);
-      const Scalar f = Scalar(2) * s / vtv;
+      Scalar dot = v0 * M(k, j);
+      for (int i = k + 1; i < nrows; ++i) dot += v[i] * M(i, j);
+      const Scalar f = dot * two_over_vtv;
       M(k, j) -= f * v0;
-      for (int i = k + 1; i < nrows; ++i) M(i, j) -= f * (M(i, k) / scale);
+      for (int i = k + 1; i < nrows; ++i) M(i, j) -= f * v[i];
     }
     M(k, k) = alpha * scale;
     for (int i = k + 1; i < nrows; ++i) M(i, k) = Scalar(0);
+  }
+}
+
+/// The same reduction of a full fixed-size M (all rows), column K onwards, with every block
+/// size known at compile time so that Eigen unrolls and vectorises it (the filter's hot path:
+/// the 2·DoF × (DoF+1) stack of two factors). The same reflectors as the loop above.
+template <int K, int TriCols, class Mat>
+void householderTriangularizeFixed(Mat& M) noexcept {
+  using Scalar = typename Mat::Scalar;
+  constexpr int R = Mat::RowsAtCompileTime;
+  constexpr int C = Mat::ColsAtCompileTime;
+  if constexpr (K < TriCols && K < R - 1) {
+    constexpr int below = R - K - 1;  // rows under the diagonal
+    constexpr int right = C - K - 1;  // columns right of the diagonal
+    const Scalar scale = M.col(K).template segment<R - K>(K).cwiseAbs().maxCoeff();
+    if (scale > Scalar(0) && std::isfinite(scale)) {
+      const Eigen::Matrix<Scalar, below, 1> v = M.col(K).template segment<below>(K + 1) / scale;
+      const Scalar sigma2 = v.squaredNorm();
+      if (sigma2 != Scalar(0)) {
+        const Scalar x0 = M(K, K) / scale;
+        Scalar alpha = std::sqrt(x0 * x0 + sigma2);
+        if (x0 > Scalar(0)) alpha = -alpha;  // v0 = x0 − alpha never cancels
+        const Scalar v0 = x0 - alpha;
+        const Scalar two_over_vtv = Scalar(2) / (v0 * v0 + sigma2);
+        if constexpr (right > 0) {
+          auto top = M.template block<1, right>(K, K + 1);
+          auto rest = M.template block<below, right>(K + 1, K + 1);
+          const Eigen::Matrix<Scalar, 1, right> f =
+              (v0 * top + v.transpose() * rest) * two_over_vtv;
+          top -= v0 * f;
+          rest.noalias() -= v * f;
+        }
+        M(K, K) = alpha * scale;
+        M.col(K).template segment<below>(K + 1).setZero();
+      }
+    }
+    householderTriangularizeFixed<K + 1, TriCols>(M);
   }
 }
 
@@ -126,7 +166,10 @@ struct SqrtInformation {
     rows += D;
   }
   void compress() noexcept {
-    householderTriangularize(M, rows, D);
+    if (rows == 2 * D)
+      householderTriangularizeFixed<0, D>(M);
+    else
+      householderTriangularize(M, rows, D);
     M.template bottomRows<D>().setZero();
     rows = D;
   }
@@ -150,7 +193,7 @@ Status normalizedInnovationSquared(const ConcentratedGaussian<G>& observation,
                                    typename G::Scalar& nis,
                                    typename G::Tangent* innovation = nullptr) noexcept {
   if (!observation.mean.allFinite() || !prior.mean.allFinite() ||
-      !observation.covariance.allFinite() || !prior.covariance.allFinite())
+      !est_detail::allFinite(observation.covariance) || !est_detail::allFinite(prior.covariance))
     return Status::non_finite_input;
   const typename G::Jacobian S = observation.covariance + prior.covariance;
   typename G::Jacobian L;
@@ -160,52 +203,41 @@ Status normalizedInnovationSquared(const ConcentratedGaussian<G>& observation,
   typename G::Tangent w = nu;
   est_detail::lowerSolveInPlace(L, w);
   const typename G::Scalar r = w.squaredNorm();
-  if (!nu.allFinite() || !std::isfinite(r)) return Status::numerical_failure;
+  if (!est_detail::allFinite(nu) || !std::isfinite(r)) return Status::numerical_failure;
   nis = r;
   if (innovation) *innovation = nu;
   return Status::ok;
 }
 
-/// N-ary fusion (alg:se3_data_fusion generalised to `count` factors, 1 ≤ count ≤
-/// kMaxFusionFactors): the operating point starts at factors[0].mean.
-/// Status: ok; invalid_argument (count or options out of range, or two means on the cut
-/// locus: relative rotation within cutLocusMargin() of π); non_finite_input / not_orthonormal /
-/// not_spd (a factor fails validate()); not_converged (tolerance > 0 not reached);
-/// numerical_failure (a non-finite or non-SPD intermediate/result). `result` is written only
-/// when the Status is ok. noexcept, allocation-free.
-template <class Policy = PaperJacobian, class G>
-Status fuse(const ConcentratedGaussian<G>* factors, int count,
-            const FusionOptions<typename G::Scalar>& options, FusionResult<G>& result) noexcept {
+namespace est_detail {
+
+/// The iteration of alg:se3_data_fusion on factors that are already validated: `means` are
+/// valid group elements, `L` the lower Cholesky factors of their covariances (Σ_i = L_i L_iᵀ,
+/// as choleskyChecked returns them), 1 ≤ count ≤ kMaxFusionFactors, options valid. fuse()
+/// validates and factorises, then calls this; the filter calls it directly with the factors it
+/// already has, so that no input is checked or factorised twice. Status as fuse().
+template <class Policy, class G>
+Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
+                    const FusionOptions<typename G::Scalar>& options,
+                    FusionResult<G>& result) noexcept {
   using Scalar = typename G::Scalar;
   using Tangent = typename G::Tangent;
   using Jacobian = typename G::Jacobian;
   constexpr int D = G::DoF;
-  if (factors == nullptr || count < 1 || count > kMaxFusionFactors) return Status::invalid_argument;
-  if (options.max_iterations < 1 || !std::isfinite(options.tolerance) ||
-      options.tolerance < Scalar(0))
-    return Status::invalid_argument;
 
-  // Validate each factor and factorise its covariance once (Σ_i = L_i L_iᵀ).
-  Jacobian L[kMaxFusionFactors];
+  // Per factor, once per call: X̄_i⁻¹ and the whitening W_i = L_i⁻¹ (lower triangular), so an
+  // iteration multiplies instead of solving (A_i = W_i J_i⁻¹, b_i = W_i ξ_i).
+  Jacobian W[kMaxFusionFactors];
   G inv_mean[kMaxFusionFactors];
   for (int i = 0; i < count; ++i) {
-    Status s = est_detail::checkGroupElement(factors[i].mean);
-    if (s != Status::ok) return s;
-    s = est_detail::choleskyChecked(factors[i].covariance, L[i]);
-    if (s != Status::ok) return s;
-    inv_mean[i] = factors[i].mean.inverse();
+    W[i].setIdentity();
+    lowerSolveInPlace(L[i], W[i]);
+    inv_mean[i] = means[i].inverse();
   }
 
-  G X = factors[0].mean;  // operating point X̄ ← X̄_1
+  G X = means[0];  // operating point X̄ ← X̄_1
   Scalar max_sep(0);
-  for (int i = 1; i < count; ++i) {
-    const Tangent xi = (X * inv_mean[i]).log();
-    if (!xi.allFinite()) return Status::numerical_failure;
-    max_sep = std::max(max_sep, est_detail::rotationAngle<G>(xi));
-  }
-  if (max_sep > Scalar(EIGEN_PI) - cutLocusMargin<Scalar>()) return Status::invalid_argument;
-
-  est_detail::SqrtInformation<G> info;
+  SqrtInformation<G> info;
   Jacobian R = Jacobian::Identity();
   Scalar step(0);
   int it = 0;
@@ -215,20 +247,24 @@ Status fuse(const ConcentratedGaussian<G>* factors, int count,
     for (int i = 0; i < count; ++i) {
       Jacobian Jinv;
       const Tangent xi = Policy::logAndInverse(X * inv_mean[i], Jinv);  // ξ_i, J(ξ_i)⁻¹
-      Jacobian A = Jinv;  // → L_i⁻¹ J_i⁻¹ (so A_iᵀA_i = J_i⁻ᵀ Σ_i⁻¹ J_i⁻¹)
-      Tangent b = xi;     // → L_i⁻¹ ξ_i
-      est_detail::lowerSolveInPlace(L[i], A);
-      est_detail::lowerSolveInPlace(L[i], b);
-      info.add(A, b);
+      if (it == 0) {
+        // At the initial operating point ξ_i = ln(X̄_1 X̄_i⁻¹): how far apart the means are.
+        if (!allFinite(xi)) return Status::numerical_failure;
+        if (i > 0) max_sep = std::max(max_sep, rotationAngle<G>(xi));
+      }
+      // A_i = L_i⁻¹ J_i⁻¹ (so A_iᵀA_i = J_i⁻ᵀ Σ_i⁻¹ J_i⁻¹), b_i = L_i⁻¹ ξ_i
+      info.add(W[i].lazyProduct(Jinv), W[i] * xi);
     }
+    if (it == 0 && max_sep > Scalar(EIGEN_PI) - cutLocusMargin<Scalar>())
+      return Status::invalid_argument;
     info.compress();
     R = info.R();
     for (int k = 0; k < D; ++k)
       if (!(std::abs(R(k, k)) > Scalar(0))) return Status::numerical_failure;
     // μ = −Σ Σ_i J_i⁻ᵀ Σ_i⁻¹ ξ_i = −(RᵀR)⁻¹ Rᵀc = −R⁻¹ c
     Tangent mu = -info.c();
-    est_detail::upperSolveInPlace(R, mu);
-    if (!mu.allFinite()) return Status::numerical_failure;
+    upperSolveInPlace(R, mu);
+    if (!allFinite(mu)) return Status::numerical_failure;
     X = G::exp(mu) * X;  // eqn:se3_normalised_prod_update
     ++it;
     step = mu.norm();
@@ -242,13 +278,13 @@ Status fuse(const ConcentratedGaussian<G>* factors, int count,
   X.normalize();
   // Σ* = (RᵀR)⁻¹ = R⁻¹ R⁻ᵀ, from the last linearisation (as the paper's algorithm returns it).
   Jacobian Rinv = Jacobian::Identity();
-  est_detail::upperSolveInPlace(R, Rinv);
+  upperSolveInPlace(R, Rinv);
   Jacobian Sigma = Rinv * Rinv.transpose();
-  if (!X.allFinite() || !Sigma.allFinite() || !std::isfinite(step))
+  if (!X.allFinite() || !allFinite(Sigma) || !std::isfinite(step))
     return Status::numerical_failure;
   // R⁻¹R⁻ᵀ is SPD in exact arithmetic; rounding can break that when its eigenvalues span more
   // than ~1/eps in a rotated basis: symmetrise, and repair with a rounding-level diagonal load.
-  if (est_detail::repairSpd(Sigma) != Status::ok) return Status::numerical_failure;
+  if (repairSpd(Sigma) != Status::ok) return Status::numerical_failure;
 
   result.fused.mean = X;
   result.fused.covariance = Sigma;
@@ -256,6 +292,36 @@ Status fuse(const ConcentratedGaussian<G>* factors, int count,
   result.step_norm = step;
   result.max_rotation_separation = max_sep;
   return Status::ok;
+}
+
+}  // namespace est_detail
+
+/// N-ary fusion (alg:se3_data_fusion generalised to `count` factors, 1 ≤ count ≤
+/// kMaxFusionFactors): the operating point starts at factors[0].mean.
+/// Status: ok; invalid_argument (count or options out of range, or two means on the cut
+/// locus: relative rotation within cutLocusMargin() of π); non_finite_input / not_orthonormal /
+/// not_spd (a factor fails validate()); not_converged (tolerance > 0 not reached);
+/// numerical_failure (a non-finite or non-SPD intermediate/result). `result` is written only
+/// when the Status is ok. noexcept, allocation-free.
+template <class Policy = PaperJacobian, class G>
+Status fuse(const ConcentratedGaussian<G>* factors, int count,
+            const FusionOptions<typename G::Scalar>& options, FusionResult<G>& result) noexcept {
+  using Scalar = typename G::Scalar;
+  if (factors == nullptr || count < 1 || count > kMaxFusionFactors) return Status::invalid_argument;
+  if (options.max_iterations < 1 || !std::isfinite(options.tolerance) ||
+      options.tolerance < Scalar(0))
+    return Status::invalid_argument;
+  // Validate each factor and factorise its covariance once (Σ_i = L_i L_iᵀ).
+  typename G::Jacobian L[kMaxFusionFactors];
+  G means[kMaxFusionFactors];
+  for (int i = 0; i < count; ++i) {
+    Status s = est_detail::checkGroupElement(factors[i].mean);
+    if (s != Status::ok) return s;
+    s = est_detail::choleskyChecked(factors[i].covariance, L[i]);
+    if (s != Status::ok) return s;
+    means[i] = factors[i].mean;
+  }
+  return est_detail::fuseFactored<Policy>(means, L, count, options, result);
 }
 
 /// Fusion of two factors (alg:se3_data_fusion); the operating point starts at `first.mean`

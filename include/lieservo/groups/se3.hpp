@@ -130,7 +130,44 @@ class SE3 {
   /// Truncated series Σ_{n=0}^{N} B_n/n! (ξ⋏)^n (eqn:inv_jacobian_def); N = 2 is the paper's.
   template <int N>
   static Jacobian leftJacobianInverseSeries(const Tangent& xi) {
-    return detail::inverseJacobianSeries<SE3, N>(xi);
+    // Horner in ad(ξ) = [[Φ, P], [0, Φ]] (Φ = φ^, P = ρ^), 3×3 blocks: every partial sum
+    // r = [[D, U], [0, D]] keeps that shape, and ad·r = [[ΦD, ΦU + PD], [0, ΦD]], so a
+    // step costs three 3×3 products instead of one dense 6×6 product (81 vs 216 multiplies).
+    using Real = detail::RealOf<Scalar>;
+    constexpr detail::BernoulliTable<N> c;
+    const Vector3 rho = xi.template head<3>(), phi = xi.template tail<3>();
+    const Matrix3 Phi = detail::skew(phi);
+    const Matrix3 P = detail::skew(rho);
+    Matrix3 D, U;
+    if constexpr (N <= 2) {
+      // Up to the paper's order, directly: with Φ² = φφᵀ − θ²1 and ΦP + PΦ = ρφᵀ + φρᵀ − 2(φ·ρ)1
+      // (a^b^ = baᵀ − (a·b)1), D = 1 + b1 Φ + b2 Φ², U = b1 P + b2 (ΦP + PΦ).
+      const Scalar b1 = N >= 1 ? Scalar(Real(c.b[N >= 1 ? 1 : 0])) : Scalar(0);
+      const Scalar b2 = N >= 2 ? Scalar(Real(c.b[N >= 2 ? 2 : 0])) : Scalar(0);
+      D = b1 * Phi;
+      U = b1 * P;
+      if constexpr (N == 2) {
+        D.noalias() += b2 * (phi * phi.transpose());
+        D.diagonal().array() -= b2 * phi.squaredNorm();
+        U.noalias() += b2 * (rho * phi.transpose() + phi * rho.transpose());
+        U.diagonal().array() -= Scalar(2) * b2 * phi.dot(rho);
+      }
+      D.diagonal().array() += Scalar(1);
+    } else {
+      D = Matrix3::Identity() * Scalar(Real(c.b[N]));
+      U.setZero();
+      for (int n = N - 1; n >= 0; --n) {
+        U = (Phi * U + P * D).eval();
+        D = (Phi * D).eval();
+        D.diagonal().array() += Scalar(Real(c.b[n]));
+      }
+    }
+    Jacobian Jinv;
+    Jinv.template topLeftCorner<3, 3>() = D;
+    Jinv.template topRightCorner<3, 3>() = U;
+    Jinv.template bottomLeftCorner<3, 3>().setZero();
+    Jinv.template bottomRightCorner<3, 3>() = D;
+    return Jinv;
   }
   static Jacobian rightJacobian(const Tangent& xi) { return leftJacobian(-xi); }
   static Jacobian rightJacobianInverse(const Tangent& xi) { return leftJacobianInverse(-xi); }

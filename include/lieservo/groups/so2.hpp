@@ -113,14 +113,21 @@ class SO2 {
   /// Nearest rotation in the Frobenius norm: angle atan2(m10 − m01, m00 + m11).
   static Status fromMatrixProjected(const Matrix& m, SO2& out) noexcept {
     if (!m.allFinite()) return Status::non_finite_input;
-    const Scalar c = m(0, 0) + m(1, 1), s = m(1, 0) - m(0, 1);
+    // Scale to max |m_ij| = 1 first: m00 + m11 overflows near the largest finite value, and
+    // the plain norm of (c, s) overflows or underflows long before that (|(c, s)| ≷ 1e±154).
+    const Scalar scale = m.cwiseAbs().maxCoeff();
+    if (!(scale > Scalar(0))) return Status::invalid_argument;
+    const Matrix u = m / scale;
+    const Scalar c = u(0, 0) + u(1, 1), s = u(1, 0) - u(0, 1);
     if (c == Scalar(0) && s == Scalar(0)) return Status::invalid_argument;
     SO2 r = fromCosSinUnchecked(c, s);
     r.normalize();
+    if (!r.allFinite()) return Status::numerical_failure;
     out = r;
     return Status::ok;
   }
-  void normalize() noexcept { cs_ /= cs_.norm(); }
+  /// Rescales (cos, sin) to unit length; stableNormalize avoids the norm's over/underflow.
+  void normalize() noexcept { cs_.stableNormalize(); }
   bool allFinite() const { return cs_.allFinite(); }
   bool isApprox(const SO2& o, Scalar tol) const { return (matrix() - o.matrix()).norm() <= tol; }
   template <class NewScalar>

@@ -42,6 +42,15 @@ Scalar pivotTolerance() noexcept {
   return Scalar(64) * std::numeric_limits<Scalar>::epsilon();
 }
 
+/// All entries finite? x − x is 0 for a finite x and NaN for ±inf or NaN, so the sum is 0 exactly
+/// when every entry is finite. Unlike DenseBase::allFinite it is a vectorised, unrolled sum for
+/// fixed sizes (a 6×6 check is a handful of instructions on the filter's hot path).
+template <class Derived>
+bool allFinite(const Eigen::MatrixBase<Derived>& m) noexcept {
+  using Scalar = typename Derived::Scalar;
+  return (m - m).sum() == Scalar(0);
+}
+
 /// Checks that S is finite and symmetric positive-definite, and returns the lower Cholesky
 /// factor L of its symmetric part (S_sym = L Lᵀ). Status: ok, non_finite_input or not_spd.
 /// L is written only when the Status is ok.
@@ -50,7 +59,7 @@ Status choleskyChecked(const Mat& S, Mat& L) noexcept {
   using Scalar = typename Mat::Scalar;
   constexpr int n = Mat::RowsAtCompileTime;
   static_assert(n > 0 && n == Mat::ColsAtCompileTime, "fixed-size square matrix expected");
-  if (!S.allFinite()) return Status::non_finite_input;
+  if (!allFinite(S)) return Status::non_finite_input;
   Scalar sd[n];
   for (int i = 0; i < n; ++i) {
     if (!(S(i, i) > Scalar(0))) return Status::not_spd;
@@ -62,20 +71,28 @@ Status choleskyChecked(const Mat& S, Mat& L) noexcept {
       if (!(std::abs(S(i, j) - S(j, i)) <= tol * sd[i] * sd[j])) return Status::not_spd;
   // Equilibrate: D S D with D = diag(1/sqrt(S_ii)) has a unit diagonal, so the pivot test
   // below is scale-free. Cholesky commutes with diagonal scaling: L = D⁻¹ chol(D S D).
-  Mat E;
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const Scalar sym = (i == j) ? S(i, i) : Scalar(0.5) * (S(i, j) + S(j, i));
-      E(i, j) = (i == j) ? Scalar(1) : (sym / sd[i]) / sd[j];
-    }
-  Eigen::LLT<Mat> llt(E);
-  if (llt.info() != Eigen::Success) return Status::not_spd;
-  Mat Le = llt.matrixL();
+  Scalar inv_sd[n];
+  for (int i = 0; i < n; ++i) inv_sd[i] = Scalar(1) / sd[i];
+  // Cholesky–Crout on the equilibrated matrix (lower triangle of the symmetric part), with
+  // every pivot L_jj² checked against pivotTolerance (written out: n ≤ 6 here, and Eigen's LLT
+  // would also compute an unused L1 norm).
+  Mat Le = Mat::Zero();
   const Scalar ptol = pivotTolerance<Scalar>();
-  for (int i = 0; i < n; ++i)
-    if (!(Le(i, i) * Le(i, i) >= ptol) || !std::isfinite(Le(i, i))) return Status::not_spd;
+  for (int j = 0; j < n; ++j) {
+    Scalar d = Scalar(1);  // the equilibrated diagonal
+    for (int k = 0; k < j; ++k) d -= Le(j, k) * Le(j, k);
+    if (!(d >= ptol)) return Status::not_spd;  // also catches NaN
+    const Scalar ljj = std::sqrt(d);
+    Le(j, j) = ljj;
+    const Scalar inv_ljj = Scalar(1) / ljj;
+    for (int i = j + 1; i < n; ++i) {
+      Scalar v = (Scalar(0.5) * (S(i, j) + S(j, i)) * inv_sd[i]) * inv_sd[j];
+      for (int k = 0; k < j; ++k) v -= Le(i, k) * Le(j, k);
+      Le(i, j) = v * inv_ljj;
+    }
+  }
   for (int i = 0; i < n; ++i) Le.row(i) *= sd[i];  // undo the row scaling: L = D⁻¹ Le
-  if (!Le.allFinite()) return Status::numerical_failure;
+  if (!allFinite(Le)) return Status::numerical_failure;
   L = Le;
   return Status::ok;
 }
@@ -163,12 +180,17 @@ Scalar spdRepairLoad() noexcept {
 /// ~1/eps — e.g. variances spanning 1e-12..1e12 mixed by a Jacobian), adds the conservative
 /// relative diagonal load S_ii ← S_ii (1 + spdRepairLoad()) and tests again. The load changes
 /// each variance by at most 2.3e-13 (double) relative. Status: ok, or numerical_failure
-/// (non-finite, non-positive diagonal, or still not SPD).
+/// (non-finite, non-positive diagonal, or still not SPD). `chol` (optional) receives the lower
+/// Cholesky factor of the returned S, which the SPD test computes anyway.
 template <class Mat>
-Status repairSpd(Mat& S) noexcept {
+Status repairSpd(Mat& S, Mat* chol = nullptr) noexcept {
   symmetrize(S);
-  if (!S.allFinite()) return Status::numerical_failure;
-  if (checkSpd(S) == Status::ok) return Status::ok;
+  if (!allFinite(S)) return Status::numerical_failure;
+  Mat L;
+  if (choleskyChecked(S, L) == Status::ok) {
+    if (chol) *chol = L;
+    return Status::ok;
+  }
   constexpr int n = Mat::RowsAtCompileTime;
   Mat loaded = S;
   const auto load = spdRepairLoad<typename Mat::Scalar>();
@@ -176,8 +198,10 @@ Status repairSpd(Mat& S) noexcept {
     if (!(S(i, i) > 0)) return Status::numerical_failure;
     loaded(i, i) += load * S(i, i);
   }
-  if (!loaded.allFinite() || checkSpd(loaded) != Status::ok) return Status::numerical_failure;
+  if (!allFinite(loaded) || choleskyChecked(loaded, L) != Status::ok)
+    return Status::numerical_failure;
   S = loaded;
+  if (chol) *chol = L;
   return Status::ok;
 }
 

@@ -20,10 +20,14 @@ inline typename G::Jacobian inverseJacobianSeries(const typename G::Tangent& xi)
   using Jacobian = typename G::Jacobian;
   using Scalar = typename G::Scalar;
   using Real = RealOf<Scalar>;
+  constexpr BernoulliTable<N> c;
   const Jacobian ad = G::ad(xi);
-  const Jacobian I = Jacobian::Identity();
-  Jacobian r = Scalar(Real(bernoulliOverFactorial(N))) * I;
-  for (int n = N - 1; n >= 0; --n) r = Scalar(Real(bernoulliOverFactorial(n))) * I + ad * r;
+  Jacobian r = Jacobian::Identity() * Scalar(Real(c.b[N]));
+  for (int n = N - 1; n >= 0; --n) {
+    Jacobian t = ad * r;
+    t.diagonal().array() += Scalar(Real(c.b[n]));
+    r = t;
+  }
   return r;
 }
 

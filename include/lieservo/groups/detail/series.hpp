@@ -67,20 +67,19 @@ inline Scalar hornerEval(const SeriesTable<K>& s, const Scalar& x) {
 
 /// B_n / n! (Bernoulli numbers with B_1 = −1/2), from the generating function x/(eˣ−1):
 /// Σ_{k=0}^{n} b_k / (n+1−k)! = 0 for n ≥ 1, b_0 = 1. Exact enough in long double for n ≤ 60.
-inline long double bernoulliOverFactorial(int n) noexcept {
+/// constexpr, so that the series' coefficients are compile-time constants (BernoulliTable).
+constexpr long double bernoulliOverFactorial(int n) noexcept {
   if (n < 0) return 0.0L;
   if (n == 0) return 1.0L;
   if (n == 1) return -0.5L;
   if (n % 2 == 1) return 0.0L;  // B_{2k+1} = 0 for k ≥ 1
-  // b_n = −Σ_{k=0}^{n−1} b_k / (n+1−k)!
+  // b_j = −Σ_{k=0}^{j−1} b_k / (j+1−k)!
   long double b[64] = {};
   const int m = n < 63 ? n : 63;
   b[0] = 1.0L;
   for (int j = 1; j <= m; ++j) {
     long double sum = 0.0L;
-    long double fact = 1.0L;  // (j+1−k)! built up from k = j−1 downwards
-    // compute factorials on the fly: for k from j−1 down to 0, (j+1−k)! = 2!, 3!, …
-    fact = 2.0L;  // (j+1−(j−1))! = 2!
+    long double fact = 2.0L;  // (j+1−k)! for k = j−1, then 3!, 4!, … as k decreases
     for (int k = j - 1; k >= 0; --k) {
       sum += b[k] / fact;
       fact *= static_cast<long double>(j + 1 - k + 1);
@@ -89,6 +88,15 @@ inline long double bernoulliOverFactorial(int n) noexcept {
   }
   return b[m];
 }
+
+/// B_n/n! for n = 0..N as compile-time constants (the inverse-Jacobian series' coefficients).
+template <int N>
+struct BernoulliTable {
+  long double b[N + 1] = {};
+  constexpr BernoulliTable() noexcept {
+    for (int n = 0; n <= N; ++n) b[n] = bernoulliOverFactorial(n);
+  }
+};
 
 }  // namespace detail
 }  // namespace lieservo
