@@ -30,6 +30,7 @@
 
 #include <Eigen/Core>
 
+#include <lieservo/detail/finite.hpp>
 #include <lieservo/status.hpp>
 
 namespace lieservo {
@@ -141,7 +142,7 @@ class MimoPid {
   Status update(const Vector& error, const Vector& feedforward, Scalar dt, Vector& u) noexcept {
     if (config_status_ != Status::ok) return config_status_;
     if (!(dt > Scalar(0)) || !std::isfinite(dt)) return Status::invalid_time_step;
-    if (!error.allFinite() || !feedforward.allFinite()) return Status::non_finite_input;
+    if (!detail::allFinite(error) || !detail::allFinite(feedforward)) return Status::non_finite_input;
 
     const Vector integral =
         (integral_ + dt * error).cwiseMax(options_.integral_min).cwiseMin(options_.integral_max);
@@ -168,8 +169,8 @@ class MimoPid {
     }
     t.unclipped = t.feedforward + t.proportional + t.integral + t.derivative;
     t.output = t.unclipped.cwiseMax(options_.output_min).cwiseMin(options_.output_max);
-    if (!t.output.allFinite() || !integral.allFinite() || !smoothed.allFinite() ||
-        !derivative.allFinite())
+    if (!detail::allFinite(t.output) || !detail::allFinite(integral) ||
+        !detail::allFinite(smoothed) || !detail::allFinite(derivative))
       return Status::numerical_failure;
 
     integral_ = integral;

@@ -25,6 +25,7 @@
 #include <Eigen/Core>
 
 #include <lieservo/control/pid.hpp>
+#include <lieservo/detail/finite.hpp>
 #include <lieservo/status.hpp>
 
 namespace lieservo {
@@ -101,7 +102,7 @@ class TactileServoController {
     // Ad(X_ss') u_s'2; most presets have no feedforward, and then Ad is not needed at all.
     const Tangent v = feedforward_is_zero_ ? Tangent(Tangent::Zero())
                                            : Tangent(E.Ad() * options_.feedforward);
-    if (!e.allFinite() || !v.allFinite()) return Status::numerical_failure;
+    if (!detail::allFinite(e) || !detail::allFinite(v)) return Status::numerical_failure;
     Tangent out = Tangent::Zero();
     const Status s = pid_.update(e, v, dt, out);
     if (s != Status::ok) return s;

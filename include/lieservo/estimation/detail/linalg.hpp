@@ -9,6 +9,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
+#include "../../detail/finite.hpp"
 #include "../../status.hpp"
 
 namespace lieservo {
@@ -42,14 +43,7 @@ Scalar pivotTolerance() noexcept {
   return Scalar(64) * std::numeric_limits<Scalar>::epsilon();
 }
 
-/// All entries finite? x − x is 0 for a finite x and NaN for ±inf or NaN, so the sum is 0 exactly
-/// when every entry is finite. Unlike DenseBase::allFinite it is a vectorised, unrolled sum for
-/// fixed sizes (a 6×6 check is a handful of instructions on the filter's hot path).
-template <class Derived>
-bool allFinite(const Eigen::MatrixBase<Derived>& m) noexcept {
-  using Scalar = typename Derived::Scalar;
-  return (m - m).sum() == Scalar(0);
-}
+using detail::allFinite;  // fast finite test (lieservo/detail/finite.hpp)
 
 /// Checks that S is finite and symmetric positive-definite, and returns the lower Cholesky
 /// factor L of its symmetric part (S_sym = L Lᵀ). Status: ok, non_finite_input or not_spd.
