@@ -71,47 +71,12 @@ Scalar cutLocusMargin() noexcept {
 
 namespace est_detail {
 
-/// Householder triangularisation, in place, of the first `nrows` rows of a fixed-size matrix M
-/// (columns 0..tri_cols−1 are reduced; later columns are transformed along, i.e. they become
-/// Qᵀ·column). Column-scaled reflectors avoid overflow/underflow in the norms.
-template <class Mat>
-void householderTriangularize(Mat& M, int nrows, int tri_cols) noexcept {
-  using Scalar = typename Mat::Scalar;
-  constexpr int R = Mat::RowsAtCompileTime;
-  constexpr int C = Mat::ColsAtCompileTime;
-  Scalar v[R];  // the scaled reflector below the diagonal (v_i = M(i, k) / scale)
-  for (int k = 0; k < tri_cols && k < nrows; ++k) {
-    Scalar scale(0);
-    for (int i = k; i < nrows; ++i) scale = std::max(scale, std::abs(M(i, k)));
-    if (!(scale > Scalar(0)) || !std::isfinite(scale)) continue;
-    Scalar sigma2(0);
-    for (int i = k + 1; i < nrows; ++i) {
-      v[i] = M(i, k) / scale;
-      sigma2 += v[i] * v[i];
-    }
-    if (sigma2 == Scalar(0)) continue;  // nothing below the diagonal
-    const Scalar x0 = M(k, k) / scale;
-    Scalar alpha = std::sqrt(x0 * x0 + sigma2);
-    if (x0 > Scalar(0)) alpha = -alpha;  // v0 = x0 − alpha never cancels
-    const Scalar v0 = x0 - alpha;
-    const Scalar two_over_vtv = Scalar(2) / (v0 * v0 + sigma2);
-    for (int j = k + 1; j < C; ++j) {
-      Scalar dot = v0 * M(k, j);
-      for (int i = k + 1; i < nrows; ++i) dot += v[i] * M(i, j);
-      const Scalar f = dot * two_over_vtv;
-      M(k, j) -= f * v0;
-      for (int i = k + 1; i < nrows; ++i) M(i, j) -= f * v[i];
-    }
-    M(k, k) = alpha * scale;
-    for (int i = k + 1; i < nrows; ++i) M(i, k) = Scalar(0);
-  }
-}
-
-/// The same reduction of a full fixed-size M (all rows), column K onwards, with every block
-/// size known at compile time so that Eigen unrolls and vectorises it (the filter's hot path:
-/// the 2·DoF × (DoF+1) stack of two factors). The same reflectors as the loop above.
+/// Householder triangularisation, in place, of a fixed-size M from column K on (columns
+/// K..TriCols−1 are reduced; later columns are transformed along, i.e. they become Qᵀ·column).
+/// Column-scaled reflectors avoid overflow/underflow in the norms. Every block size is known at
+/// compile time, so Eigen unrolls and vectorises it (the filter's hot path).
 template <int K, int TriCols, class Mat>
-void householderTriangularizeFixed(Mat& M) noexcept {
+void householderTriangularize(Mat& M) noexcept {
   using Scalar = typename Mat::Scalar;
   constexpr int R = Mat::RowsAtCompileTime;
   constexpr int C = Mat::ColsAtCompileTime;
@@ -140,7 +105,7 @@ void householderTriangularizeFixed(Mat& M) noexcept {
         M.col(K).template segment<below>(K + 1).setZero();
       }
     }
-    householderTriangularizeFixed<K + 1, TriCols>(M);
+    householderTriangularize<K + 1, TriCols>(M);
   }
 }
 
@@ -166,10 +131,9 @@ struct SqrtInformation {
     rows += D;
   }
   void compress() noexcept {
-    if (rows == 2 * D)
-      householderTriangularizeFixed<0, D>(M);
-    else
-      householderTriangularize(M, rows, D);
+    // Rows at and below `rows` are zero (reset/compress clear them), and zero rows change
+    // neither R nor c, so the whole stack is reduced with compile-time sizes.
+    householderTriangularize<0, D>(M);
     M.template bottomRows<D>().setZero();
     rows = D;
   }
