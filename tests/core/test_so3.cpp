@@ -106,3 +106,36 @@ TEST_CASE("SO3 closed forms match hand-computed values", "[core][so3]") {
   Jexp << std::sin(t) / t, -(1 - std::cos(t)) / t, 0, (1 - std::cos(t)) / t, std::sin(t) / t, 0, 0, 0, 1;
   CHECK((G::leftJacobian(Eigen::Vector3d(0, 0, t)) - Jexp).norm() <= 1e-15);
 }
+
+TEMPLATE_TEST_CASE("SO3 log of a matrix against a long-double reference, on both branches", "[core][so3]", float,
+                   double) {
+  // log() takes θ and the axis from the antisymmetric part and the trace for tr C > 0 and from
+  // Shepperd's quaternion beyond. The reference is the quaternion path in long double applied
+  // to the same (rounded) matrix, so the error measured is log()'s own rounding only: relative
+  // to θ for small angles, and a few ulp of π near the half turn. Angles are log-uniform in
+  // [1e-10, π) and, half of them, within 1e-3 of the branch switch at θ = 2π/3.
+  using S = TestType;
+  using ld = long double;
+  namespace d = lieservo::detail;
+  std::mt19937_64 rng(77);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const double pi = 3.14159265358979323846;
+  double worst = 0, worst_at = 0;
+  int direct = 0, quaternion = 0;
+  for (int i = 0; i < 100000; ++i) {
+    const double angle = (i % 2 == 0) ? std::min(pi * (1 - 1e-7), 1e-10 * std::pow(pi * 1e10, u(rng)))
+                                      : 2 * pi / 3 + 1e-3 * (2 * u(rng) - 1);
+    const typename SO3<S>::Matrix C = SO3<S>::exp(lst::tangentWithAngle<SO3<S>>(rng, angle, 0.0)).matrix();
+    (C.trace() > S(0) ? direct : quaternion)++;
+    const Eigen::Matrix<ld, 3, 3> Cl = C.template cast<ld>();
+    const Eigen::Matrix<ld, 3, 1> ref = d::rotationVectorFromQuaternion(d::quaternionFromMatrix(Cl));
+    const Eigen::Matrix<ld, 3, 1> got = SO3<S>::fromMatrixUnchecked(C).log().template cast<ld>();
+    const double err = static_cast<double>((got - ref).norm() / std::max<ld>(ref.norm(), 1e-300L));
+    if (err > worst) worst = err, worst_at = static_cast<double>(ref.norm());
+  }
+  INFO("worst relative error " << worst << " at theta " << worst_at << "; direct " << direct << ", quaternion "
+                               << quaternion);
+  CHECK(direct > 20000);
+  CHECK(quaternion > 20000);
+  CHECK(worst <= 4 * lst::epsOf<S>());
+}

@@ -54,10 +54,11 @@ class SO3 {
     return expWith(phi, t);
   }
 
-  /// log(C)^∨ with θ = |φ| ∈ [0, π], via Shepperd's quaternion and θ = 2 atan2(|v|, w).
-  /// At θ = π exactly the axis sign follows quaternionFromMatrix's rule (largest-magnitude
-  /// component positive). Accurate to a few ulp everywhere, including near π.
-  Tangent log() const { return detail::rotationVectorFromQuaternion(detail::quaternionFromMatrix(C_)); }
+  /// log(C)^∨ with θ = |φ| ∈ [0, π]: θ = atan2(sinθ, cosθ) from the antisymmetric part and the
+  /// trace for θ < 2π/3, Shepperd's quaternion and θ = 2 atan2(|v|, w) beyond. At θ = π exactly
+  /// the axis sign follows quaternionFromMatrix's rule (largest-magnitude component positive).
+  /// Accurate to a few ulp everywhere, including near π.
+  Tangent log() const { return detail::rotationVectorFromMatrix(C_); }
 
   /// φ^ (eqn:so3_hat_operator).
   static Matrix hat(const Tangent& phi) { return detail::skew(phi); }

@@ -1,5 +1,6 @@
 // lieservo/groups/detail/rotation.hpp — 3-D rotation helpers: skew matrices, Shepperd's
-// matrix→quaternion conversion, the quaternion logarithm and the Rodrigues formulas.
+// matrix→quaternion conversion, the rotation logarithm (from a matrix or a quaternion) and the
+// Rodrigues formulas.
 #pragma once
 
 #include <cmath>
@@ -74,25 +75,42 @@ inline Eigen::Matrix<Scalar, 4, 1> quaternionFromMatrix(const Eigen::Matrix<Scal
   return q;
 }
 
-/// Rotation vector of a unit quaternion (w, v) with w ≥ 0: φ = 2 atan2(|v|, w) v/|v|,
-/// θ = |φ| ∈ [0, π]. Near the identity the factor 2 atan2(n, w)/n uses the series of
-/// atan(y)/y in y² = n²/w² (no 0/0); near π (w → 0) atan2 stays fully accurate (no acos).
+/// The rotation vector θ s/|s| with θ = atan2(|s|, c), for s = k sinα·a and c = k cosα (any
+/// k > 0, unit axis a): θ = α ∈ [0, π]. Near α = 0 the factor atan2(n, c)/n uses the series
+/// of atan(y)/y in y² = n²/c² (no 0/0); elsewhere atan2 is accurate for every α (no acos, so
+/// no NaN when rounding pushes a cosine past ±1). Shared by both logarithm paths below.
 template <class Scalar>
-inline Eigen::Matrix<Scalar, 3, 1> rotationVectorFromQuaternion(const Eigen::Matrix<Scalar, 4, 1>& q) {
+inline Eigen::Matrix<Scalar, 3, 1> angleAxisFromSinCos(const Eigen::Matrix<Scalar, 3, 1>& s, const Scalar& c) {
   using std::atan2;
   using std::sqrt;
-  using Real = RealOf<Scalar>;
-  const Scalar w = q(0);
-  const Eigen::Matrix<Scalar, 3, 1> v = q.template tail<3>();
-  const Scalar n2 = v.squaredNorm();
-  const Scalar two(Real(2));
-  // Series branch: y² = n²/w² below its cutoff (w ≈ 1 there, so no division hazard).
-  if (n2 < Scalar(Cutoffs<Scalar>::Atan) * w * w) {
-    const Scalar y2 = n2 / (w * w);
-    return (two / w * hornerEval(kSeriesAtan, y2)) * v;
-  }
+  const Scalar n2 = s.squaredNorm();
+  if (c > Scalar(0) && n2 < Scalar(Cutoffs<Scalar>::Atan) * c * c)
+    return (hornerEval(kSeriesAtan, n2 / (c * c)) / c) * s;
   const Scalar n = sqrt(n2);
-  return (two * atan2(n, w) / n) * v;
+  return (atan2(n, c) / n) * s;
+}
+
+/// Rotation vector of a unit quaternion (w, v) with w ≥ 0: φ = 2 atan2(|v|, w) v/|v|,
+/// θ = |φ| ∈ [0, π] (v = sin(θ/2)·axis, w = cos(θ/2)).
+template <class Scalar>
+inline Eigen::Matrix<Scalar, 3, 1> rotationVectorFromQuaternion(const Eigen::Matrix<Scalar, 4, 1>& q) {
+  using Real = RealOf<Scalar>;
+  return Scalar(Real(2)) * angleAxisFromSinCos<Scalar>(q.template tail<3>(), q(0));
+}
+
+/// log(C)^∨ of a rotation matrix, θ ∈ [0, π]. For tr C > 0 (θ < 2π/3) the antisymmetric part
+/// gives 2 sinθ·axis and the trace 1 + 2 cosθ directly: the axis error is ~ε/sinθ ≤ 1.2ε there,
+/// and this costs one sqrt and one atan2. Towards π sinθ → 0 and the antisymmetric part is all
+/// rounding, so the axis comes from Shepperd's quaternion instead (θ = π exactly: its sign rule).
+template <class Scalar>
+inline Eigen::Matrix<Scalar, 3, 1> rotationVectorFromMatrix(const Eigen::Matrix<Scalar, 3, 3>& C) {
+  const Scalar t = C(0, 0) + C(1, 1) + C(2, 2);
+  if (t > Scalar(0)) {
+    const Eigen::Matrix<Scalar, 3, 1> s(C(2, 1) - C(1, 2), C(0, 2) - C(2, 0), C(1, 0) - C(0, 1));
+    using Real = RealOf<Scalar>;
+    return angleAxisFromSinCos<Scalar>(s, t - Scalar(Real(1)));  // k = 2: s = 2 sinθ a, c = 2 cosθ
+  }
+  return rotationVectorFromQuaternion(quaternionFromMatrix(C));
 }
 
 }  // namespace detail
