@@ -142,44 +142,47 @@ class MimoPid {
   Status update(const Vector& error, const Vector& feedforward, Scalar dt, Vector& u) noexcept {
     if (config_status_ != Status::ok) return config_status_;
     if (!(dt > Scalar(0)) || !std::isfinite(dt)) return Status::invalid_time_step;
-    if (!detail::allFinite(error) || !detail::allFinite(feedforward)) return Status::non_finite_input;
+    if (!detail::allFinite(error, feedforward)) return Status::non_finite_input;
 
     const Vector integral =
         (integral_ + dt * error).cwiseMax(options_.integral_min).cwiseMin(options_.integral_max);
-    Vector smoothed = Vector::Zero();
-    Vector derivative = Vector::Zero();
+    // Locals are computed whole and stored only after the finiteness check (no zero-fill, no
+    // Terms temporary copied into terms_): the controller step is a 1 kHz hot path.
+    Vector smoothed, derivative;
     if (!started_) {
       smoothed = error;
       derivative.setZero();
     } else {
       const Scalar a = alpha(dt);
       smoothed = a * error + (Scalar(1) - a) * smoothed_;
-      derivative = (smoothed - smoothed_) / dt;
+      derivative = (smoothed - smoothed_) * (Scalar(1) / dt);
     }
-    Terms t;
-    t.feedforward = feedforward;
+    Vector proportional, integral_term, derivative_term;
     if (diagonal_gains_) {
-      t.proportional = kp_diag_.cwiseProduct(error);
-      t.integral = ki_diag_.cwiseProduct(integral);
-      t.derivative = kd_diag_.cwiseProduct(derivative);
+      proportional = kp_diag_.cwiseProduct(error);
+      integral_term = ki_diag_.cwiseProduct(integral);
+      derivative_term = kd_diag_.cwiseProduct(derivative);
     } else {
-      t.proportional.noalias() = options_.kp * error;
-      t.integral.noalias() = options_.ki * integral;
-      t.derivative.noalias() = options_.kd * derivative;
+      proportional.noalias() = options_.kp * error;
+      integral_term.noalias() = options_.ki * integral;
+      derivative_term.noalias() = options_.kd * derivative;
     }
-    t.unclipped = t.feedforward + t.proportional + t.integral + t.derivative;
-    t.output = t.unclipped.cwiseMax(options_.output_min).cwiseMin(options_.output_max);
-    if (!detail::allFinite(t.output) || !detail::allFinite(integral) ||
-        !detail::allFinite(smoothed) || !detail::allFinite(derivative))
-      return Status::numerical_failure;
+    const Vector unclipped = feedforward + proportional + integral_term + derivative_term;
+    const Vector output = unclipped.cwiseMax(options_.output_min).cwiseMin(options_.output_max);
+    if (!detail::allFinite(output, integral, smoothed, derivative)) return Status::numerical_failure;
 
+    terms_.feedforward = feedforward;
+    terms_.proportional = proportional;
+    terms_.integral = integral_term;
+    terms_.derivative = derivative_term;
+    terms_.unclipped = unclipped;
+    terms_.output = output;
     integral_ = integral;
     smoothed_ = smoothed;
     derivative_ = derivative;
-    terms_ = t;
     started_ = true;
     ++steps_;
-    u = t.output;
+    u = output;
     return Status::ok;
   }
 

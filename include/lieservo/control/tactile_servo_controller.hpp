@@ -102,7 +102,7 @@ class TactileServoController {
     // Ad(X_ss') u_s'2; most presets have no feedforward, and then Ad is not needed at all.
     const Tangent v = feedforward_is_zero_ ? Tangent(Tangent::Zero())
                                            : Tangent(E.Ad() * options_.feedforward);
-    if (!detail::allFinite(e) || !detail::allFinite(v)) return Status::numerical_failure;
+    if (!detail::allFinite(e, v)) return Status::numerical_failure;
     Tangent out = Tangent::Zero();
     const Status s = pid_.update(e, v, dt, out);
     if (s != Status::ok) return s;
