@@ -107,8 +107,8 @@ TEST_CASE("SO3 closed forms match hand-computed values", "[core][so3]") {
   CHECK((G::leftJacobian(Eigen::Vector3d(0, 0, t)) - Jexp).norm() <= 1e-15);
 }
 
-TEMPLATE_TEST_CASE("SO3 log of a matrix against a long-double reference, on both branches", "[core][so3]", float,
-                   double) {
+TEMPLATE_TEST_CASE("SO3 log (and logWithTerms) of a matrix against a long-double reference, on both branches",
+                   "[core][so3]", float, double) {
   // log() takes θ and the axis from the antisymmetric part and the trace for tr C > 0 and from
   // Shepperd's quaternion beyond. The reference is the quaternion path in long double applied
   // to the same (rounded) matrix, so the error measured is log()'s own rounding only: relative
@@ -120,8 +120,9 @@ TEMPLATE_TEST_CASE("SO3 log of a matrix against a long-double reference, on both
   std::mt19937_64 rng(77);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const double pi = 3.14159265358979323846;
-  double worst = 0, worst_at = 0;
-  int direct = 0, quaternion = 0;
+  double worst = 0, worst_at = 0, worst_same = 0, worst_theta2 = 0, worst_trig = 0, worst_omc = 0,
+         worst_omc_ctor = 0;
+  int direct = 0, quaternion = 0, closed = 0;
   for (int i = 0; i < 100000; ++i) {
     const double angle = (i % 2 == 0) ? std::min(pi * (1 - 1e-7), 1e-10 * std::pow(pi * 1e10, u(rng)))
                                       : 2 * pi / 3 + 1e-3 * (2 * u(rng) - 1);
@@ -132,7 +133,36 @@ TEMPLATE_TEST_CASE("SO3 log of a matrix against a long-double reference, on both
     const Eigen::Matrix<ld, 3, 1> got = SO3<S>::fromMatrixUnchecked(C).log().template cast<ld>();
     const double err = static_cast<double>((got - ref).norm() / std::max<ld>(ref.norm(), 1e-300L));
     if (err > worst) worst = err, worst_at = static_cast<double>(ref.norm());
+    // logWithTerms: the same φ, and the angle terms (no sin/cos call) to a few ulp.
+    d::AngleTerms<S> t(S(0));
+    const typename SO3<S>::Tangent phi_t = SO3<S>::fromMatrixUnchecked(C).logWithTerms(t);
+    const ld th = ref.norm();
+    worst_same = std::max(worst_same, static_cast<double>((phi_t.template cast<ld>() - got).norm()));
+    worst_theta2 = std::max(worst_theta2, static_cast<double>(std::abs(static_cast<ld>(t.theta2) - th * th) / (th * th)));
+    if (t.closed) {
+      ++closed;
+      worst_trig = std::max({worst_trig, static_cast<double>(std::abs(static_cast<ld>(t.sin) - std::sin(th))),
+                             static_cast<double>(std::abs(static_cast<ld>(t.cos) - std::cos(th))),
+                             static_cast<double>(std::abs(static_cast<ld>(t.theta) - th) / th)});
+      const ld omc = 2 * std::sin(th / 2) * std::sin(th / 2);
+      worst_omc = std::max(worst_omc, static_cast<double>(std::abs(static_cast<ld>(t.one_minus_cos) - omc) / omc));
+      // The same quantity through the constructor (θ² → sin/cos of θ/2), for comparison.
+      const d::AngleTerms<S> t0(phi_t.squaredNorm());
+      worst_omc_ctor =
+          std::max(worst_omc_ctor, static_cast<double>(std::abs(static_cast<ld>(t0.one_minus_cos) - omc) / omc));
+    }
   }
+  INFO("logWithTerms: phi differs by " << worst_same << "; theta2 rel " << worst_theta2 << ", sin/cos/theta "
+                                       << worst_trig << ", 1 - cos rel " << worst_omc << " (from theta^2: "
+                                       << worst_omc_ctor << "; " << closed << " closed-form samples)");
+  CHECK(worst_same == 0.0);
+  CHECK(closed > 50000);
+  CHECK(worst_theta2 <= 8 * lst::epsOf<S>());
+  CHECK(worst_trig <= 4 * lst::epsOf<S>());
+  // From sinθ and cosθ, 1 − cosθ is more accurate than from θ² (whose ≈ 5-ulp relative error
+  // it would inherit): ≈ 3 ulp.
+  CHECK(worst_omc <= 6 * lst::epsOf<S>());
+  CHECK(worst_omc <= worst_omc_ctor + 2 * lst::epsOf<S>());
   INFO("worst relative error " << worst << " at theta " << worst_at << "; direct " << direct << ", quaternion "
                                << quaternion);
   CHECK(direct > 20000);

@@ -63,8 +63,8 @@ class SE3 {
   }
   /// log(X)^∨ = [J(φ)⁻¹ r; φ] with φ = log(C), θ ∈ [0, π] (sign rule at π as SO3::log).
   Tangent log() const {
-    const Vector3 phi = C_.log();
-    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    detail::AngleTerms<Scalar> t(Scalar(0));
+    const Vector3 phi = C_.logWithTerms(t);  // log and J⁻¹ share the trigonometric work
     Tangent xi;
     xi.template head<3>() = SO3Type::leftJacobianInverseWith(phi, t) * r_;
     xi.template tail<3>() = phi;
@@ -179,8 +179,8 @@ class SE3 {
     return SE3(SO3Type::expWith(phi, t), J.template topLeftCorner<3, 3>() * rho);
   }
   Tangent logAndLeftJacobianInverse(Jacobian& Jinv) const {
-    const Vector3 phi = C_.log();
-    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    detail::AngleTerms<Scalar> t(Scalar(0));
+    const Vector3 phi = C_.logWithTerms(t);  // log and J⁻¹ share the trigonometric work
     const Matrix3 Ji = SO3Type::leftJacobianInverseWith(phi, t);
     const Vector3 rho = Ji * r_;
     Jinv.template topLeftCorner<3, 3>() = Ji;

@@ -59,6 +59,10 @@ class SO3 {
   /// the axis sign follows quaternionFromMatrix's rule (largest-magnitude component positive).
   /// Accurate to a few ulp everywhere, including near π.
   Tangent log() const { return detail::rotationVectorFromMatrix(C_); }
+  /// log(C)^∨ and the AngleTerms of θ = |φ| from the same work (for J(φ)⁻¹ and Q): no sin/cos.
+  Tangent logWithTerms(detail::AngleTerms<Scalar>& terms) const {
+    return detail::rotationVectorFromMatrix(C_, &terms);
+  }
 
   /// φ^ (eqn:so3_hat_operator).
   static Matrix hat(const Tangent& phi) { return detail::skew(phi); }
@@ -103,8 +107,8 @@ class SO3 {
   }
   /// log(C) and J(log C)⁻¹ sharing the trigonometric work.
   Tangent logAndLeftJacobianInverse(Jacobian& Jinv) const {
-    const Tangent phi = log();
-    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    detail::AngleTerms<Scalar> t(Scalar(0));
+    const Tangent phi = logWithTerms(t);
     Jinv = leftJacobianInverseWith(phi, t);
     return phi;
   }

@@ -107,15 +107,49 @@ struct AngleTerms {
     using std::sqrt;
     using Real = RealOf<Scalar>;
     if (!(x < Scalar(Cutoffs<Scalar>::trig))) {
-      closed = true;
       theta = sqrt(x);
       const Scalar half = theta / Scalar(Real(2));
-      const Scalar sh = sin(half);
-      const Scalar ch = cos(half);
-      this->sin = Scalar(Real(2)) * sh * ch;
-      this->cos = (ch - sh) * (ch + sh);
-      one_minus_cos = Scalar(Real(2)) * sh * sh;
+      setHalfAngle(sin(half), cos(half));
     }
+  }
+
+  /// The same terms for an angle θ whose half-angle sine and cosine are already known (the
+  /// quaternion logarithm has them): no trigonometric call.
+  static AngleTerms fromHalfAngle(const Scalar& theta, const Scalar& sin_half, const Scalar& cos_half) {
+    AngleTerms t(Scalar(0));
+    t.theta2 = theta * theta;
+    if (!(t.theta2 < Scalar(Cutoffs<Scalar>::trig))) {
+      t.theta = theta;
+      t.setHalfAngle(sin_half, cos_half);
+    }
+    return t;
+  }
+
+  /// The same terms for θ with known sinθ and cosθ > −1 (the matrix logarithm has them away
+  /// from π). 1 − cosθ is formed without cancellation: directly while cosθ < ½, as
+  /// sin²θ/(1 + cosθ) above (small θ).
+  static AngleTerms fromSinCos(const Scalar& theta, const Scalar& sin_theta, const Scalar& cos_theta) {
+    using Real = RealOf<Scalar>;
+    AngleTerms t(Scalar(0));
+    t.theta2 = theta * theta;
+    if (!(t.theta2 < Scalar(Cutoffs<Scalar>::trig))) {
+      t.closed = true;
+      t.theta = theta;
+      t.sin = sin_theta;
+      t.cos = cos_theta;
+      const Scalar one(Real(1));
+      t.one_minus_cos = cos_theta < Scalar(Real(0.5)) ? one - cos_theta : sin_theta * sin_theta / (one + cos_theta);
+    }
+    return t;
+  }
+
+ private:
+  void setHalfAngle(const Scalar& sh, const Scalar& ch) {
+    using Real = RealOf<Scalar>;
+    closed = true;
+    this->sin = Scalar(Real(2)) * sh * ch;
+    this->cos = (ch - sh) * (ch + sh);
+    one_minus_cos = Scalar(Real(2)) * sh * sh;
   }
 };
 

@@ -75,42 +75,62 @@ inline Eigen::Matrix<Scalar, 4, 1> quaternionFromMatrix(const Eigen::Matrix<Scal
   return q;
 }
 
-/// The rotation vector θ s/|s| with θ = atan2(|s|, c), for s = k sinα·a and c = k cosα (any
-/// k > 0, unit axis a): θ = α ∈ [0, π]. Near α = 0 the factor atan2(n, c)/n uses the series
-/// of atan(y)/y in y² = n²/c² (no 0/0); elsewhere atan2 is accurate for every α (no acos, so
-/// no NaN when rounding pushes a cosine past ±1). Shared by both logarithm paths below.
+/// θ = atan2(|s|, c) ∈ [0, π] for s = k sinθ·a and c = k cosθ (any k > 0, unit axis a), with
+/// n = |s| and factor = θ/n, so that θ·a = factor·s. Near θ = 0 the factor uses the series of
+/// atan(y)/y in y² = n²/c² (no 0/0); elsewhere atan2 is accurate for every θ (no acos, so no NaN
+/// when rounding pushes a cosine past ±1). Shared by both logarithm paths below.
 template <class Scalar>
-inline Eigen::Matrix<Scalar, 3, 1> angleAxisFromSinCos(const Eigen::Matrix<Scalar, 3, 1>& s, const Scalar& c) {
-  using std::atan2;
-  using std::sqrt;
-  const Scalar n2 = s.squaredNorm();
-  if (c > Scalar(0) && n2 < Scalar(Cutoffs<Scalar>::Atan) * c * c)
-    return (hornerEval(kSeriesAtan, n2 / (c * c)) / c) * s;
-  const Scalar n = sqrt(n2);
-  return (atan2(n, c) / n) * s;
-}
+struct AngleFromSinCos {
+  Scalar n, theta, factor;
+  AngleFromSinCos(const Scalar& n2, const Scalar& c) {
+    using std::atan2;
+    using std::sqrt;
+    n = sqrt(n2);
+    if (c > Scalar(0) && n2 < Scalar(Cutoffs<Scalar>::Atan) * c * c) {
+      factor = hornerEval(kSeriesAtan, n2 / (c * c)) / c;
+      theta = factor * n;
+    } else {
+      theta = atan2(n, c);
+      factor = theta / n;
+    }
+  }
+};
 
 /// Rotation vector of a unit quaternion (w, v) with w ≥ 0: φ = 2 atan2(|v|, w) v/|v|,
-/// θ = |φ| ∈ [0, π] (v = sin(θ/2)·axis, w = cos(θ/2)).
+/// θ = |φ| ∈ [0, π] (v = sin(θ/2)·axis, w = cos(θ/2)). With `terms`, also the AngleTerms of θ
+/// from the same half-angle sine and cosine.
 template <class Scalar>
-inline Eigen::Matrix<Scalar, 3, 1> rotationVectorFromQuaternion(const Eigen::Matrix<Scalar, 4, 1>& q) {
+inline Eigen::Matrix<Scalar, 3, 1> rotationVectorFromQuaternion(const Eigen::Matrix<Scalar, 4, 1>& q,
+                                                                 AngleTerms<Scalar>* terms = nullptr) {
   using Real = RealOf<Scalar>;
-  return Scalar(Real(2)) * angleAxisFromSinCos<Scalar>(q.template tail<3>(), q(0));
+  const Scalar two(Real(2));
+  const AngleFromSinCos<Scalar> half(q.template tail<3>().squaredNorm(), q(0));
+  if (terms) *terms = AngleTerms<Scalar>::fromHalfAngle(two * half.theta, half.n, q(0));
+  return (two * half.factor) * q.template tail<3>();
 }
 
 /// log(C)^∨ of a rotation matrix, θ ∈ [0, π]. For tr C > 0 (θ < 2π/3) the antisymmetric part
-/// gives 2 sinθ·axis and the trace 1 + 2 cosθ directly: the axis error is ~ε/sinθ ≤ 1.2ε there,
-/// and this costs one sqrt and one atan2. Towards π sinθ → 0 and the antisymmetric part is all
-/// rounding, so the axis comes from Shepperd's quaternion instead (θ = π exactly: its sign rule).
+/// gives s = 2 sinθ·axis and the trace c = 1 + 2 cosθ − 1 = 2 cosθ directly: the axis error is
+/// ~ε/sinθ ≤ 1.2ε there, and this costs one sqrt and one atan2. Towards π sinθ → 0 and s is all
+/// rounding, so the axis comes from Shepperd's quaternion instead (θ = π exactly: its sign
+/// rule). With `terms`, also the AngleTerms of θ from the same sine and cosine (no sin/cos call:
+/// log and J⁻¹ share the trigonometric work).
 template <class Scalar>
-inline Eigen::Matrix<Scalar, 3, 1> rotationVectorFromMatrix(const Eigen::Matrix<Scalar, 3, 3>& C) {
+inline Eigen::Matrix<Scalar, 3, 1> rotationVectorFromMatrix(const Eigen::Matrix<Scalar, 3, 3>& C,
+                                                            AngleTerms<Scalar>* terms = nullptr) {
+  using Real = RealOf<Scalar>;
   const Scalar t = C(0, 0) + C(1, 1) + C(2, 2);
   if (t > Scalar(0)) {
     const Eigen::Matrix<Scalar, 3, 1> s(C(2, 1) - C(1, 2), C(0, 2) - C(2, 0), C(1, 0) - C(0, 1));
-    using Real = RealOf<Scalar>;
-    return angleAxisFromSinCos<Scalar>(s, t - Scalar(Real(1)));  // k = 2: s = 2 sinθ a, c = 2 cosθ
+    const Scalar c = t - Scalar(Real(1));
+    const AngleFromSinCos<Scalar> a(s.squaredNorm(), c);
+    if (terms) {
+      const Scalar half(Real(0.5));
+      *terms = AngleTerms<Scalar>::fromSinCos(a.theta, half * a.n, half * c);
+    }
+    return a.factor * s;
   }
-  return rotationVectorFromQuaternion(quaternionFromMatrix(C));
+  return rotationVectorFromQuaternion(quaternionFromMatrix(C), terms);
 }
 
 }  // namespace detail
