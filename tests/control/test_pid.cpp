@@ -275,3 +275,31 @@ TEST_CASE("pid: per-step gains convert as Ki/dt, Kd·dt, clip·dt (time-constant
   }
   CHECK(max_integral == Approx(10 * T));  // the clip was active
 }
+
+TEST_CASE("detail::allFinite over one and several objects (the real-time paths' finiteness test)", "[control][pid]") {
+  using V6 = Eigen::Matrix<double, 6, 1>;
+  using M3 = Eigen::Matrix3d;
+  const double big = std::numeric_limits<double>::max(), tiny = std::numeric_limits<double>::denorm_min();
+  V6 a, b;
+  a << big, -big, tiny, -tiny, 0.0, 1.0;
+  b << 1.0, 2.0, 3.0, 4.0, 5.0, 6.0;
+  M3 m = M3::Identity() * big;
+  // x − x is exactly 0 for every finite x, so extremes do not overflow the test.
+  CHECK(lieservo::detail::allFinite(a));
+  CHECK(lieservo::detail::allFinite(a, b, a));
+  CHECK(lieservo::detail::allFinite(m));
+  for (double bad : {kInf, -kInf, std::numeric_limits<double>::quiet_NaN()}) {
+    for (int i = 0; i < 6; ++i) {
+      for (int which = 0; which < 3; ++which) {
+        V6 x = a, y = b, z = a;
+        (which == 0 ? x : which == 1 ? y : z)(i) = bad;
+        INFO("bad value " << bad << " at " << i << " of object " << which);
+        CHECK_FALSE(lieservo::detail::allFinite(x, y, z));
+        if (which == 0) CHECK_FALSE(lieservo::detail::allFinite(x));
+      }
+    }
+    M3 mb = m;
+    mb(2, 1) = bad;
+    CHECK_FALSE(lieservo::detail::allFinite(mb));
+  }
+}
