@@ -219,7 +219,8 @@ def main(argv=None):
                 'total_seconds': summ.get('total_seconds'), 'threads': summ.get('threads'),
                 'seed': summ.get('seed'), 'params': summ.get('params'),
                 'command': hist.get('args'),
-                'hardware': '1 CPU thread (x86-64, shared 2-core VM), PyTorch 1.13 CPU',
+                'hardware': f'{summ.get("threads", "?")} CPU thread(s) (x86-64, shared 2-core VM), '
+                            'PyTorch 1.13 CPU',
             },
             'validation': {'n': int(len(X)), 'mae': dict(zip(COMP, map(float, mae))), **loss},
             'paper_table1': PAPER_TABLE1['GDN' if kind == 'gdn' else 'CNN'],
