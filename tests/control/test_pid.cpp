@@ -94,6 +94,35 @@ TEST_CASE("pid: smoothing weight and time constant", "[control][pid]") {
   CHECK(u[0] == Approx(a / 0.05));
 }
 
+
+TEST_CASE("pid: the memoised smoothing weight follows dt and the options", "[control][pid]") {
+  // update() computes 1 − exp(−dt/τ) once per distinct dt. A changed dt, and a configure() with
+  // a new τ at an unchanged dt, must each give the fresh weight, exactly as alpha(dt) does.
+  auto o = Pid2::Options::diagonal(V2::Zero(), V2::Zero(), V2::Zero());
+  o.smoothing_time_constant = 0.2;
+  Pid2 pid(o);
+  V2 u;
+  double expected = 0;
+  const auto step = [&](double e, double dt) {
+    const double a = pid.started() ? pid.alpha(dt) : 1.0;  // the first step takes e as it is
+    expected = a * e + (1 - a) * expected;
+    REQUIRE(pid.update(V2(e, -e), V2::Zero(), dt, u) == Status::ok);
+    CHECK(pid.smoothedError()[0] == Approx(expected).epsilon(1e-14));  // a stale α is off by > 10 %
+  };
+  step(1.0, 0.05);
+  step(2.0, 0.05);  // memo hit
+  step(3.0, 0.01);  // new dt
+  step(4.0, 0.05);  // back to the first dt
+  o.smoothing_time_constant = 0.02;
+  REQUIRE(pid.configure(o) == Status::ok);  // same dt, new τ: the memo must not be reused
+  CHECK(pid.alpha(0.05) == Approx(1 - std::exp(-0.05 / 0.02)).epsilon(1e-15));
+  step(5.0, 0.05);
+  o.smoothing_time_constant = 0;  // back to the fixed per-step weight
+  o.smoothing = 0.25;
+  REQUIRE(pid.configure(o) == Status::ok);
+  step(6.0, 0.05);
+  CHECK(pid.alpha(0.05) == 0.25);
+}
 TEST_CASE("pid: feedforward passes through; zero error and zero feedforward give zero output",
           "[control][pid]") {
   auto o = Pid2::Options::diagonal(V2(1, 2), V2(3, 4), V2(5, 6));

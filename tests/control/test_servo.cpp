@@ -118,6 +118,16 @@ TEST_CASE("servo: invalid dt or non-finite pose leaves everything unchanged", "[
   CHECK(servo.pid().integral() == i0);
   CHECK(servo.setFeedforward(V6::Constant(nan)) == Status::non_finite_input);
   CHECK(servo.options().feedforward.isZero());
+
+  // Finite pose and reference whose composition overflows: e = log(E) is not finite. The input
+  // was valid, so this is the controller's numerical failure (reported by the PID's own check),
+  // and again nothing changes.
+  REQUIRE(servo.setReference(SE3d_(SE3d_::SO3Type(), SE3d_::Vector3(1e308, 0, 0))) == Status::ok);
+  CHECK(servo.step(SE3d_(SE3d_::SO3Type(), SE3d_::Vector3(1e308, 0, 0)), 0.1, u) == Status::numerical_failure);
+  CHECK(u == u0);
+  CHECK(servo.tangentError() == e0);
+  CHECK(servo.poseError().translation().allFinite());
+  CHECK(servo.pid().integral() == i0);
 }
 
 TEST_CASE("servo: generic over the group (SE2, SO3, SO2)", "[control][servo]") {

@@ -31,6 +31,7 @@
 #include <Eigen/Core>
 
 #include <lieservo/detail/finite.hpp>
+#include <lieservo/detail/flatten.hpp>
 #include <lieservo/status.hpp>
 
 namespace lieservo {
@@ -130,6 +131,7 @@ class MimoPid {
     ki_diag_ = options_.ki.diagonal();
     kd_diag_ = options_.kd.diagonal();
     integral_ = integral_.cwiseMax(options_.integral_min).cwiseMin(options_.integral_max);
+    alpha_dt_ = Scalar(0);  // the memo below belongs to the old options
     config_status_ = Status::ok;
     return Status::ok;
   }
@@ -139,7 +141,7 @@ class MimoPid {
   /// Status::invalid_time_step if dt ≤ 0 or non-finite; Status::non_finite_input if e or v
   /// has a NaN/inf; Status::numerical_failure if the result overflows.  On failure nothing
   /// changes, `u` included.
-  Status update(const Vector& error, const Vector& feedforward, Scalar dt, Vector& u) noexcept {
+  LIESERVO_FLATTEN Status update(const Vector& error, const Vector& feedforward, Scalar dt, Vector& u) noexcept {
     if (config_status_ != Status::ok) return config_status_;
     if (!(dt > Scalar(0)) || !std::isfinite(dt)) return Status::invalid_time_step;
     if (!detail::allFinite(error, feedforward)) return Status::non_finite_input;
@@ -153,7 +155,13 @@ class MimoPid {
       smoothed = error;
       derivative.setZero();
     } else {
-      const Scalar a = alpha(dt);
+      // A fixed control period repeats dt: 1 − exp(−dt/τ) is computed once, not every step
+      // (the exp call was a tenth of the step).  alpha_dt_ = 0 means "no memo" (dt > 0 here).
+      if (dt != alpha_dt_) {
+        alpha_ = alpha(dt);
+        alpha_dt_ = dt;
+      }
+      const Scalar a = alpha_;
       smoothed = a * error + (Scalar(1) - a) * smoothed_;
       derivative = (smoothed - smoothed_) * (Scalar(1) / dt);
     }
@@ -225,6 +233,8 @@ class MimoPid {
   Vector kp_diag_ = Vector::Zero();
   Vector ki_diag_ = Vector::Zero();
   Vector kd_diag_ = Vector::Zero();
+  Scalar alpha_dt_ = Scalar(0);  // dt of the memoised smoothing weight (0: none)
+  Scalar alpha_ = Scalar(0);     // alpha(alpha_dt_)
 
   static bool isDiagonal(const Matrix& m) noexcept {
     for (int j = 0; j < N; ++j)

@@ -25,7 +25,7 @@
 #include <Eigen/Core>
 
 #include <lieservo/control/pid.hpp>
-#include <lieservo/detail/finite.hpp>
+#include <lieservo/detail/flatten.hpp>
 #include <lieservo/status.hpp>
 
 namespace lieservo {
@@ -92,7 +92,7 @@ class TactileServoController {
   /// One control cycle.  `feature_in_sensor` = X_sf (filtered), `dt` > 0 the time since the
   /// last cycle, `u` receives the sensor body twist in {s}.  On any non-ok Status nothing
   /// changes (u, error(), PID state).
-  Status step(const G& feature_in_sensor, Scalar dt, Tangent& u) noexcept {
+  LIESERVO_FLATTEN Status step(const G& feature_in_sensor, Scalar dt, Tangent& u) noexcept {
     if (config_status_ != Status::ok) return config_status_;
     if (!(dt > Scalar(0)) || !std::isfinite(dt)) return Status::invalid_time_step;
     if (!feature_in_sensor.allFinite()) return Status::non_finite_input;
@@ -102,9 +102,11 @@ class TactileServoController {
     // Ad(X_ss') u_s'2; most presets have no feedforward, and then Ad is not needed at all.
     const Tangent v = feedforward_is_zero_ ? Tangent(Tangent::Zero())
                                            : Tangent(E.Ad() * options_.feedforward);
-    if (!detail::allFinite(e, v)) return Status::numerical_failure;
-    Tangent out = Tangent::Zero();
+    // The PID checks e and v for NaN/inf itself; the input was finite, so a non-finite e or v
+    // is our numerical failure (the log or Ad overflowed), not the caller's bad input.
+    Tangent out;
     const Status s = pid_.update(e, v, dt, out);
+    if (s == Status::non_finite_input) return Status::numerical_failure;
     if (s != Status::ok) return s;
     error_pose_ = E;
     error_ = e;

@@ -245,7 +245,7 @@ class SE3 {
     return Status::ok;
   }
   void normalize() noexcept { C_.normalize(); }
-  bool allFinite() const { return C_.allFinite() && r_.allFinite(); }
+  bool allFinite() const noexcept { return C_.allFinite() && detail::allFinite(r_); }
   /// Rotation ‖ΔC‖_F ≤ tol and translation ‖Δr‖ ≤ tol · (1 + max(‖r1‖, ‖r2‖)).
   bool isApprox(const SE3& o, Scalar tol) const {
     using std::max;

@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 
+#include "../detail/finite.hpp"
 #include "../status.hpp"
 #include "../units.hpp"
 #include "detail/coefficients.hpp"
@@ -185,7 +186,7 @@ class SO3 {
     C_.col(1) = y;
     C_.col(2) = x.cross(y);
   }
-  bool allFinite() const { return C_.allFinite(); }
+  bool allFinite() const noexcept { return detail::allFinite(C_); }
   /// ‖C1 − C2‖_F ≤ tol.
   bool isApprox(const SO3& o, Scalar tol) const { return (C_ - o.C_).norm() <= tol; }
 
