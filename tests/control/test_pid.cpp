@@ -94,7 +94,6 @@ TEST_CASE("pid: smoothing weight and time constant", "[control][pid]") {
   CHECK(u[0] == Approx(a / 0.05));
 }
 
-
 TEST_CASE("pid: the memoised smoothing weight follows dt and the options", "[control][pid]") {
   // update() computes 1 − exp(−dt/τ) once per distinct dt. A changed dt, and a configure() with
   // a new τ at an unchanged dt, must each give the fresh weight, exactly as alpha(dt) does.
@@ -123,6 +122,7 @@ TEST_CASE("pid: the memoised smoothing weight follows dt and the options", "[con
   step(6.0, 0.05);
   CHECK(pid.alpha(0.05) == 0.25);
 }
+
 TEST_CASE("pid: feedforward passes through; zero error and zero feedforward give zero output",
           "[control][pid]") {
   auto o = Pid2::Options::diagonal(V2(1, 2), V2(3, 4), V2(5, 6));
