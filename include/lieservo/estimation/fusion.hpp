@@ -50,7 +50,10 @@ template <class G>
 struct FusionResult {
   ConcentratedGaussian<G> fused;  ///< (X̄*, Σ*): the normalised product
   int iterations = 0;             ///< operating-point updates performed
-  /// ‖μ‖₂ of the last update (tangent units as given: e.g. mm and rad mixed, as in the paper)
+  /// ‖μ‖₂ of the last update (tangent units as given: e.g. mm and rad mixed, as in the paper).
+  /// In real-time mode (tolerance = 0) the only sign of an iteration that has not settled:
+  /// factors far outside the concentrated regime (rotational σ ≫ 1 rad) can make it wander
+  /// (docs/performance.md, hard-set finding), and the result is still returned with ok.
   typename G::Scalar step_norm = typename G::Scalar(0);
   /// Largest rotation angle |φ| (rad) of ξ_i = ln(X̄_1 X̄_i⁻¹)^∨ at the initial operating point:
   /// how far apart the factor means are in rotation (the concentrated-Gaussian assumption
