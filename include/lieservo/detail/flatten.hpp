@@ -2,7 +2,7 @@
 //
 // GCC's inliner decides per call site and per translation unit: in a file that instantiates many
 // templates it may leave even a 6-element Eigen product as an out-of-line call, three of them in
-// one PID step (≈ 100 extra instructions, measured with callgrind). Flattening the real-time
+// one PID step (≈ 150 extra instructions, measured with callgrind). Flattening the real-time
 // entry points makes their cost independent of the file they are compiled in.
 #pragma once
 
