@@ -27,7 +27,8 @@ import torch
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 
-from model import CNN_ALPHA_DEG, CNN_ALPHA_RAD, P_MU, P_SIGMA_INV, build  # noqa: E402
+from model import (CNN_ALPHA_DEG, CNN_ALPHA_RAD, P_MU, P_SIGMA_INV, TORCH_BN,  # noqa: E402
+                   BatchNormOptions, build)
 
 FORBIDDEN_OPS = {'Where', 'Clip', 'Min', 'Max', 'Softplus', 'Reshape'}
 MODELS_DIR = os.path.join(HERE, 'models')
@@ -100,7 +101,8 @@ def torch_forward(model, x: np.ndarray) -> np.ndarray:
 
 def load_ckpt(path: str):
     ck = torch.load(path, map_location='cpu')
-    m = build(ck['kind'], tuple(ck['channels']))
+    bn = BatchNormOptions(**ck['bn']) if 'bn' in ck else TORCH_BN  # older checkpoints: PyTorch's
+    m = build(ck['kind'], tuple(ck['channels']), bn=bn)
     m.load_state_dict(ck['state_dict'])
     return m.eval(), ck
 

@@ -6,7 +6,7 @@ softplus written as relu(z) + log(1 + exp(-|z|)).
 from __future__ import annotations
 
 import math
-from typing import Sequence
+from typing import NamedTuple, Sequence
 
 import torch
 import torch.nn as nn
@@ -19,6 +19,19 @@ SIGMA_INV_MAX = 1e6
 # rotations in degrees, so the equivalent weights (same loss value) are 100 * (pi/180)^2.
 CNN_ALPHA_RAD = (1.0, 1.0, 1.0, 100.0, 100.0, 100.0)
 CNN_ALPHA_DEG = tuple(a if i < 3 else a * (math.pi / 180.0) ** 2 for i, a in enumerate(CNN_ALPHA_RAD))
+
+
+class BatchNormOptions(NamedTuple):
+    """BatchNorm eps and running-statistics momentum (PyTorch meaning: weight of the new batch)."""
+    eps: float
+    momentum: float
+
+
+TORCH_BN = BatchNormOptions(eps=1e-5, momentum=0.1)
+# The paper trained with TensorFlow 2.4 / Keras, whose BatchNormalization defaults are
+# epsilon = 1e-3 and momentum = 0.99 (weight of the OLD average), i.e. PyTorch momentum 0.01:
+# the evaluation statistics average ~100 batches instead of ~10.
+KERAS_BN = BatchNormOptions(eps=1e-3, momentum=0.01)
 
 
 def stable_softplus(z: torch.Tensor) -> torch.Tensor:
@@ -34,12 +47,14 @@ def softbound(x: torch.Tensor, xmin: float = SIGMA_INV_MIN, xmax: float = SIGMA_
 class ConvBase(nn.Module):
     """Blocks of [3x3 conv (pad 1) -> BatchNorm -> ReLU -> 2x2 maxpool], doubling channels."""
 
-    def __init__(self, channels: Sequence[int] = (16, 32, 64, 128, 256), in_ch: int = 1):
+    def __init__(self, channels: Sequence[int] = (16, 32, 64, 128, 256), in_ch: int = 1,
+                 bn: BatchNormOptions = TORCH_BN):
         super().__init__()
         layers = []
         c = in_ch
         for k in channels:
-            layers += [nn.Conv2d(c, k, 3, padding=1), nn.BatchNorm2d(k), nn.ReLU(inplace=False),
+            layers += [nn.Conv2d(c, k, 3, padding=1),
+                       nn.BatchNorm2d(k, eps=bn.eps, momentum=bn.momentum), nn.ReLU(inplace=False),
                        nn.MaxPool2d(2)]
             c = k
         self.body = nn.Sequential(*layers)
@@ -54,9 +69,10 @@ def n_features(channels: Sequence[int], size: int = 128) -> int:
 
 
 class CNNRegression(nn.Module):
-    def __init__(self, channels=(16, 32, 64, 128, 256), size: int = 128, p: float = 0.1):
+    def __init__(self, channels=(16, 32, 64, 128, 256), size: int = 128, p: float = 0.1,
+                 bn: BatchNormOptions = TORCH_BN):
         super().__init__()
-        self.base = ConvBase(channels)
+        self.base = ConvBase(channels, bn=bn)
         self.drop = nn.Dropout(p)
         self.fc = nn.Linear(n_features(channels, size), 6)
 
@@ -69,9 +85,9 @@ class GDN(nn.Module):
     dropout (multi-dropout), sigma^-1 through softbound into [1e-6, 1e6]."""
 
     def __init__(self, channels=(16, 32, 64, 128, 256), size: int = 128,
-                 p_mu=P_MU, p_sigma_inv=P_SIGMA_INV):
+                 p_mu=P_MU, p_sigma_inv=P_SIGMA_INV, bn: BatchNormOptions = TORCH_BN):
         super().__init__()
-        self.base = ConvBase(channels)
+        self.base = ConvBase(channels, bn=bn)
         F = n_features(channels, size)
         self.mu_drop = nn.ModuleList([nn.Dropout(p) for p in p_mu])
         self.mu_fc = nn.ModuleList([nn.Linear(F, 1) for _ in p_mu])
@@ -97,9 +113,10 @@ def weighted_mse(out: torch.Tensor, y: torch.Tensor, alpha: torch.Tensor) -> tor
     return (alpha * (y - out) ** 2).sum(dim=1).mean()
 
 
-def build(kind: str, channels=(16, 32, 64, 128, 256), size: int = 128) -> nn.Module:
+def build(kind: str, channels=(16, 32, 64, 128, 256), size: int = 128,
+          bn: BatchNormOptions = TORCH_BN) -> nn.Module:
     if kind == 'gdn':
-        return GDN(channels, size)
+        return GDN(channels, size, bn=bn)
     if kind == 'cnn':
-        return CNNRegression(channels, size)
+        return CNNRegression(channels, size, bn=bn)
     raise ValueError(f'unknown model kind {kind!r}')

@@ -28,7 +28,7 @@ torch.set_num_threads(1)
 import labels as L  # noqa: E402
 from dataset import (DatasetError, default_data_dir, euler6_from_targets, load_image,  # noqa: E402
                      read_json, read_targets)
-from model import build, softbound, stable_softplus  # noqa: E402
+from model import KERAS_BN, TORCH_BN, build, softbound, stable_softplus  # noqa: E402
 
 TESTS = []
 SKIPPED = []
@@ -223,11 +223,11 @@ def reader_real_files():
 
 
 # ---------------------------------------------------------------- ONNX / cv2.dnn
-def _export_and_compare(kind, channels=(4, 8, 16)):
+def _export_and_compare(kind, channels=(4, 8, 16), bn=TORCH_BN):
     import cv2
     from export_onnx import export_model
     torch.manual_seed(3)
-    m = build(kind, channels).eval()
+    m = build(kind, channels, bn=bn).eval()
     with torch.no_grad():   # give BN non-trivial statistics
         for mod in m.modules():
             if isinstance(mod, torch.nn.BatchNorm2d):
@@ -257,6 +257,27 @@ def onnx_tiny_gdn_cv2_matches_torch():
 @test
 def onnx_tiny_cnn_cv2_matches_torch():
     _export_and_compare('cnn')
+
+
+@test
+def keras_batchnorm_options_exported_and_reloaded():
+    # The paper's Keras BatchNorm (eps 1e-3): the ONNX export folds BN into Conv with the
+    # module's eps, and a checkpoint records the options so export rebuilds the same model.
+    _export_and_compare('gdn', bn=KERAS_BN)
+    from export_onnx import load_ckpt
+    m = build('gdn', (4, 8, 16), bn=KERAS_BN)
+    bns = [b for b in m.modules() if isinstance(b, torch.nn.BatchNorm2d)]
+    assert len(bns) == 3 and all(b.eps == 1e-3 and b.momentum == 0.01 for b in bns)
+    with tempfile.TemporaryDirectory() as td:
+        p = os.path.join(td, 'gdn_best.pt')
+        for ck_bn, want in ((KERAS_BN._asdict(), KERAS_BN), (None, TORCH_BN)):
+            ck = {'state_dict': m.state_dict(), 'kind': 'gdn', 'channels': (4, 8, 16)}
+            if ck_bn is not None:
+                ck['bn'] = ck_bn
+            torch.save(ck, p)
+            r, _ = load_ckpt(p)
+            assert all(b.eps == want.eps and b.momentum == want.momentum
+                       for b in r.modules() if isinstance(b, torch.nn.BatchNorm2d))
 
 
 @test

@@ -28,7 +28,7 @@ sys.path.insert(0, HERE)
 
 from dataset import default_data_dir, load_split  # noqa: E402
 import labels as L  # noqa: E402
-from model import CNN_ALPHA_DEG, build, gdn_nll, weighted_mse  # noqa: E402
+from model import CNN_ALPHA_DEG, KERAS_BN, TORCH_BN, build, gdn_nll, weighted_mse  # noqa: E402
 
 COMP = ['rho1_mm', 'rho2_mm', 'rho3_mm', 'phi1_deg', 'phi2_deg', 'phi3_deg']
 
@@ -77,6 +77,9 @@ def main(argv=None):
     ap.add_argument('--lr-max', type=float, default=1e-3, help='peak learning rate (paper 1e-3)')
     ap.add_argument('--channels', default='16,32,64,128,256')
     ap.add_argument('--batch', type=int, default=16)
+    ap.add_argument('--bn', choices=['torch', 'keras'], default='torch',
+                    help='BatchNorm eps/momentum: PyTorch defaults (1e-5, 0.1) or the paper\'s '
+                    'TensorFlow/Keras defaults (1e-3, 0.01 in PyTorch terms)')
     ap.add_argument('--threads', type=int, default=1)
     ap.add_argument('--seed', type=int, default=0)
     ap.add_argument('--out', required=True, help='run directory (checkpoints, history)')
@@ -109,7 +112,8 @@ def main(argv=None):
     Yva = torch.from_numpy(L.to_train_units(L.xi_from_euler6(va.euler6)).astype(np.float32))
     alpha = torch.tensor(CNN_ALPHA_DEG, dtype=torch.float32)
 
-    model = build(args.model, channels)
+    bn = KERAS_BN if args.bn == 'keras' else TORCH_BN
+    model = build(args.model, channels, bn=bn)
     n_par = sum(p.numel() for p in model.parameters())
     opt = torch.optim.Adam(model.parameters(), lr=1e-5)
     rng = np.random.RandomState(args.seed)
@@ -119,7 +123,7 @@ def main(argv=None):
         steps = min(steps, args.max_batches)
     print(f'model={args.model} channels={channels} params={n_par} train={n} val={len(Xva)} '
           f'batch={args.batch} steps/epoch={steps} e_max={e_max} threads={args.threads} '
-          f'seed={args.seed}', flush=True)
+          f'seed={args.seed} bn={args.bn}{tuple(bn)}', flush=True)
 
     hist = []
     best = (math.inf, -1)
@@ -165,11 +169,12 @@ def main(argv=None):
                    lr=lr, e_max=e_max, seconds=sec, train_seconds=t_train)
         hist.append(rec)
         improved = vloss < best[0]
+        ck = {'state_dict': model.state_dict(), 'kind': args.model, 'channels': channels,
+              'bn': bn._asdict(), 'epoch': ep + 1, 'val_loss': vloss, 'val_mae': list(vmae)}
         if improved:
             best = (vloss, ep + 1)
-            torch.save({'state_dict': model.state_dict(), 'kind': args.model,
-                        'channels': channels, 'epoch': ep + 1, 'val_loss': vloss,
-                        'val_mae': list(vmae)}, best_path)
+            torch.save(ck, best_path)
+        torch.save(ck, os.path.join(args.out, f'{args.model}_last.pt'))
         print(f'ep {ep + 1:3d} train {tot / cnt:9.4f} val {vloss:9.4f} mae '
               + ' '.join(f'{m:.3f}' for m in vmae)
               + f' lr {lr:.2e} {sec:6.1f}s{" *" if improved else ""}', flush=True)
@@ -191,7 +196,7 @@ def main(argv=None):
                    epochs_run=len(hist), e_max=e_max, best_epoch=best[1],
                    seconds_per_epoch=float(np.mean(ep_times)) if ep_times else None,
                    total_seconds=time.time() - t_start, threads=args.threads,
-                   batch=args.batch, val_loss=vloss, val_mae=dict(zip(COMP, map(float, vmae))))
+                   batch=args.batch, bn=bn._asdict(), val_loss=vloss, val_mae=dict(zip(COMP, map(float, vmae))))
     with open(os.path.join(args.out, f'{args.model}_summary.json'), 'w') as f:
         json.dump(summary, f, indent=1)
     print('best:', json.dumps(summary), flush=True)
