@@ -77,7 +77,7 @@ def main(argv=None):
     ap.add_argument('--lr-max', type=float, default=1e-3, help='peak learning rate (paper 1e-3)')
     ap.add_argument('--channels', default='16,32,64,128,256')
     ap.add_argument('--batch', type=int, default=16)
-    ap.add_argument('--bn', choices=['torch', 'keras'], default='torch',
+    ap.add_argument('--bn', choices=['torch', 'keras'], default='keras',
                     help='BatchNorm eps/momentum: PyTorch defaults (1e-5, 0.1) or the paper\'s '
                     'TensorFlow/Keras defaults (1e-3, 0.01 in PyTorch terms)')
     ap.add_argument('--threads', type=int, default=1)
