@@ -7,8 +7,8 @@ images, write the reference outputs for the C++ tests and the model card.
         [--weights best|last]
 
 --weights picks the checkpoint train.py wrote: `best` (lowest validation loss, <kind>_best.pt) or
-`last` (the final epoch of the schedule, <kind>_last.pt -- what Keras's EarlyStopping keeps by
-default, restore_best_weights=False, when the schedule ends before the patience runs out).
+`last` (the final epoch, <kind>_last.pt -- what Keras's EarlyStopping hands back by default,
+restore_best_weights=False).
 
 Outputs (in examples/gdn/models/):
     gdn.onnx   input "input" [N,1,128,128] float32 in [0,1]; output "output" [N,12] =
@@ -220,13 +220,14 @@ def main(argv=None):
                          'weighted MSE, alpha=%s on mm/rad == %s on mm/deg' %
                          (list(CNN_ALPHA_RAD), [round(a, 6) for a in CNN_ALPHA_DEG])),
                 'optimizer': 'Adam, batch 16',
-                'schedule': 'LRPD: 1e-5 -> 1e-3 linear over 3 epochs (per step), hold 1 epoch, '
-                            'then (1e-3-1e-7) sqrt(1 - (e-4)/(e_max-4)) + 1e-7',
+                'schedule': 'LRPD: 1e-5 -> {0:g} linear over 3 epochs (per step), hold 1 epoch, '
+                            'then ({0:g}-1e-7) sqrt(1 - (e-4)/(e_max-4)) + 1e-7'.format(
+                                hist.get('args', {}).get('lr_max', 1e-3)),
                 'early_stopping': 'patience 25 on val loss',
                 'exported_weights': ('lowest-validation-loss epoch' if args.weights == 'best' else
                                      'final epoch of the LRPD schedule (Keras EarlyStopping '
                                      'default: restore_best_weights=False)'),
-                'batchnorm': ck.get('bn', {'eps': 1e-5, 'momentum': 0.1}),
+                'batchnorm': ck.get('bn', TORCH_BN._asdict()),
                 'best_val_loss_epoch': summ.get('best_epoch'),
                 'epochs_run': summ.get('epochs_run'), 'e_max_final': summ.get('e_max'),
                 'weights_epoch': ck.get('epoch'), 'seconds_per_epoch': summ.get('seconds_per_epoch'),
