@@ -113,6 +113,17 @@ def weighted_mse(out: torch.Tensor, y: torch.Tensor, alpha: torch.Tensor) -> tor
     return (alpha * (y - out) ** 2).sum(dim=1).mean()
 
 
+def keras_init_(model: nn.Module) -> nn.Module:
+    """Re-initialise like Keras (the paper's framework): Glorot-uniform kernels and zero biases for
+    every Conv2d and Linear layer (PyTorch's default is Kaiming-uniform(a=sqrt 5) with random
+    biases). BatchNorm keeps gamma = 1, beta = 0 in both frameworks."""
+    for m in model.modules():
+        if isinstance(m, (nn.Conv2d, nn.Linear)):
+            nn.init.xavier_uniform_(m.weight)
+            nn.init.zeros_(m.bias)
+    return model
+
+
 def build(kind: str, channels=(16, 32, 64, 128, 256), size: int = 128,
           bn: BatchNormOptions = TORCH_BN) -> nn.Module:
     if kind == 'gdn':

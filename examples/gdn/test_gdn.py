@@ -28,7 +28,7 @@ torch.set_num_threads(1)
 import labels as L  # noqa: E402
 from dataset import (DatasetError, default_data_dir, euler6_from_targets, load_image,  # noqa: E402
                      read_json, read_targets)
-from model import KERAS_BN, TORCH_BN, build, softbound, stable_softplus  # noqa: E402
+from model import KERAS_BN, TORCH_BN, build, keras_init_, softbound, stable_softplus  # noqa: E402
 
 TESTS = []
 SKIPPED = []
@@ -280,6 +280,26 @@ def keras_batchnorm_options_exported_and_reloaded():
             r, _ = load_ckpt(p)
             assert all(b.eps == want.eps and b.momentum == want.momentum
                        for b in r.modules() if isinstance(b, torch.nn.BatchNorm2d))
+
+
+@test
+def keras_init_glorot_uniform_zero_bias():
+    # Keras initialisation: every conv/linear kernel ~ U(-b, b) with b = sqrt(6/(fan_in+fan_out))
+    # (fans include the 3x3 receptive field), every bias zero; BatchNorm untouched.
+    torch.manual_seed(0)
+    m = keras_init_(build('gdn', (4, 8, 16), size=32))
+    layers = [l for l in m.modules() if isinstance(l, (torch.nn.Conv2d, torch.nn.Linear))]
+    assert len(layers) == 3 + 12
+    for l in layers:
+        rf = l.weight[0, 0].numel()
+        b = math.sqrt(6.0 / (l.weight.shape[1] * rf + l.weight.shape[0] * rf))
+        w = l.weight.detach()
+        assert float(l.bias.abs().max()) == 0.0
+        assert float(w.abs().max()) <= b
+        if w.numel() >= 200:   # uniform on [-b, b]: std b/sqrt(3), checked to 15 %
+            assert abs(float(w.std()) / (b / math.sqrt(3.0)) - 1.0) < 0.15, (l, float(w.std()), b)
+    for bn in (l for l in m.modules() if isinstance(l, torch.nn.BatchNorm2d)):
+        assert float((bn.weight - 1).abs().max()) == 0.0 and float(bn.bias.abs().max()) == 0.0
 
 
 @test

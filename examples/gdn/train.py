@@ -28,7 +28,7 @@ sys.path.insert(0, HERE)
 
 from dataset import default_data_dir, load_split  # noqa: E402
 import labels as L  # noqa: E402
-from model import CNN_ALPHA_DEG, KERAS_BN, TORCH_BN, build, gdn_nll, weighted_mse  # noqa: E402
+from model import CNN_ALPHA_DEG, KERAS_BN, TORCH_BN, build, gdn_nll, keras_init_, weighted_mse  # noqa: E402
 
 COMP = ['rho1_mm', 'rho2_mm', 'rho3_mm', 'phi1_deg', 'phi2_deg', 'phi3_deg']
 
@@ -56,6 +56,13 @@ def evaluate(model, kind, X, Y, alpha, bs=32):
     return float(loss), mae.numpy().astype(float), out
 
 
+def holdout_indices(n: int, k: int, seed: int = 20221122) -> np.ndarray:
+    """The k training rows that --holdout keeps out: fixed seed, independent of --seed."""
+    if not 0 < k < n:
+        raise SystemExit(f'--holdout {k}: must be between 1 and {n - 1}')
+    return np.sort(np.random.RandomState(seed).permutation(n)[:k])
+
+
 def parse_deadline(s):
     if not s:
         return None
@@ -80,6 +87,13 @@ def main(argv=None):
     ap.add_argument('--bn', choices=['torch', 'keras'], default='keras',
                     help='BatchNorm eps/momentum: PyTorch defaults (1e-5, 0.1) or the paper\'s '
                     'TensorFlow/Keras defaults (1e-3, 0.01 in PyTorch terms)')
+    ap.add_argument('--init', choices=['torch', 'keras'], default='torch',
+                    help='weight initialisation: PyTorch defaults, or Keras (Glorot-uniform, zero bias)')
+    ap.add_argument('--adam-eps', type=float, default=1e-8,
+                    help='Adam epsilon (PyTorch default 1e-8; Keras 1e-7)')
+    ap.add_argument('--holdout', type=int, default=0,
+                    help='keep this many training images (a seeded random choice, listed in '
+                    'DIR/holdout.txt) out of training, for calibrate_sigma.py')
     ap.add_argument('--threads', type=int, default=1)
     ap.add_argument('--seed', type=int, default=0)
     ap.add_argument('--out', required=True, help='run directory (checkpoints, history)')
@@ -109,13 +123,21 @@ def main(argv=None):
     Xtr = torch.from_numpy(tr.images)
     Xva = torch.from_numpy(va.images)
     Ytr = torch.from_numpy(L.to_train_units(L.xi_from_euler6(tr.euler6)).astype(np.float32))
+    if args.holdout:
+        # Rows are ordered by depth, so the held-out set must be a random choice, not a tail.
+        held = holdout_indices(len(Xtr), args.holdout)
+        keep = np.setdiff1d(np.arange(len(Xtr)), held)
+        np.savetxt(os.path.join(args.out, 'holdout.txt'), held, fmt='%d')
+        Xtr, Ytr = Xtr[keep], Ytr[keep]
     Yva = torch.from_numpy(L.to_train_units(L.xi_from_euler6(va.euler6)).astype(np.float32))
     alpha = torch.tensor(CNN_ALPHA_DEG, dtype=torch.float32)
 
     bn = KERAS_BN if args.bn == 'keras' else TORCH_BN
     model = build(args.model, channels, bn=bn)
+    if args.init == 'keras':
+        keras_init_(model)
     n_par = sum(p.numel() for p in model.parameters())
-    opt = torch.optim.Adam(model.parameters(), lr=1e-5)
+    opt = torch.optim.Adam(model.parameters(), lr=1e-5, eps=args.adam_eps)
     rng = np.random.RandomState(args.seed)
     n = len(Xtr)
     steps = n // args.batch + (1 if n % args.batch else 0)
@@ -123,7 +145,8 @@ def main(argv=None):
         steps = min(steps, args.max_batches)
     print(f'model={args.model} channels={channels} params={n_par} train={n} val={len(Xva)} '
           f'batch={args.batch} steps/epoch={steps} e_max={e_max} threads={args.threads} '
-          f'seed={args.seed} bn={args.bn}{tuple(bn)}', flush=True)
+          f'seed={args.seed} bn={args.bn}{tuple(bn)} init={args.init} adam_eps={args.adam_eps:g} '
+          f'holdout={args.holdout}', flush=True)
 
     hist = []
     best = (math.inf, -1)
