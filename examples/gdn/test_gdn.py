@@ -303,6 +303,32 @@ def keras_init_glorot_uniform_zero_bias():
 
 
 @test
+def sigma_calibration_factors():
+    # Errors drawn with std s_j around a network that claims sigma = 1: the factor recovers s_j
+    # (quantile of 100000 samples: ~0.5 % standard error), and the scaled sigma covers 68.27 %.
+    from calibrate_sigma import GAUSS_1SIGMA, coverage_of, sigma_scale
+    rng = np.random.RandomState(3)
+    s = np.array([0.5, 1.0, 2.0, 1.0, 3.0, 0.25])
+    sig = rng.uniform(0.2, 2.0, size=(100000, 6))          # per-sample sigma, heteroscedastic
+    err = rng.standard_normal((100000, 6)) * sig * s
+    k = sigma_scale(err, sig)
+    assert np.all(np.abs(k / s - 1.0) < 0.02), k
+    assert np.all(np.abs(coverage_of(err, sig * k) - GAUSS_1SIGMA) < 1e-3)
+    assert abs(coverage_of(err, sig)[1] - GAUSS_1SIGMA) < 0.01   # s = 1: already calibrated
+    for bad in (np.zeros((4, 6)), np.full((4, 6), np.nan), -np.ones((4, 6))):
+        try:
+            sigma_scale(np.ones((4, 6)), bad)
+            assert False, 'accepted sigma %r' % bad[0, 0]
+        except ValueError:
+            pass
+    try:
+        sigma_scale(np.ones((4, 6)), np.ones((5, 6)))
+        assert False, 'accepted mismatched shapes'
+    except ValueError:
+        pass
+
+
+@test
 def onnx_trained_gdn_reference_outputs():
     import cv2
     onnx_path = os.path.join(HERE, 'models', 'gdn.onnx')

@@ -12,6 +12,7 @@
 #include <random>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -358,12 +359,21 @@ ReplayResults runReplay(const ReplayOptions& opt) {
   log("inference " + std::to_string(res.seconds_inference) + " s" + (res.inference_cached ? " (cached)" : ""));
 
   // ---- Table 1 ------------------------------------------------------------------
-  std::vector<ad::Prediction> gdn_pred(n), cnn_pred;
-  for (std::size_t i = 0; i < n; ++i) {
-    auto p = ad::OnnxPoseModel::fromRaw(gdn_card, raw.gdn[i].data());
-    if (!p) throw std::runtime_error(samples[i].image + ": GDN output: " + p.error().message);
-    gdn_pred[i] = p.value();
-  }
+  // The paper's tables use the network's own σ; a card's σ calibration gets its own Table 2
+  // below, so both can be read side by side.
+  ad::ModelCard network_card = gdn_card;
+  network_card.sigma_scale = {1, 1, 1, 1, 1, 1};
+  auto predictions = [&](const ad::ModelCard& card) {
+    std::vector<ad::Prediction> pred(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      auto p = ad::OnnxPoseModel::fromRaw(card, raw.gdn[i].data());
+      if (!p) throw std::runtime_error(samples[i].image + ": GDN output: " + p.error().message);
+      pred[i] = p.value();
+    }
+    return pred;
+  };
+  const std::vector<ad::Prediction> gdn_pred = predictions(network_card);
+  std::vector<ad::Prediction> cnn_pred;
   if (with_cnn) {
     cnn_pred.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
@@ -383,6 +393,7 @@ ReplayResults runReplay(const ReplayOptions& opt) {
       const int jj = static_cast<int>(j);
       res.gdn_mae[j] += std::fabs(gdn_mu[i][j] - actual[i][j]);
       res.gdn_mean_sigma[j] += 1.0 / gdn_prec[i][j];
+      if (std::fabs(gdn_mu[i][j] - actual[i][j]) * gdn_prec[i][j] <= 1.0) res.gdn_coverage[j] += 1.0;
       const double z = (samples[i].xi[j] - gdn_pred[i].mu(jj)) / gdn_pred[i].sigma(jj);  // mm, rad
       nll += 0.5 * z * z + std::log(gdn_pred[i].sigma(jj));
       if (with_cnn) {
@@ -394,6 +405,7 @@ ReplayResults runReplay(const ReplayOptions& opt) {
   for (std::size_t j = 0; j < 6; ++j) {
     res.gdn_mae[j] /= static_cast<double>(n);
     res.gdn_mean_sigma[j] /= static_cast<double>(n);
+    res.gdn_coverage[j] /= static_cast<double>(n);
   }
   res.have_gdn = true;
   res.gdn_nll_rad = nll / static_cast<double>(n);
@@ -411,17 +423,40 @@ ReplayResults runReplay(const ReplayOptions& opt) {
 
   // ---- Table 2: the SE(3) Bayes filter over the sequence ------------------------------
   const auto t3 = Clock::now();
-  std::vector<ConcentratedGaussian<SE3d>> obs(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Status s = ad::toObservation(gdn_pred[i], obs[i]);  // eq:se3_inverse_transform
-    if (s != Status::ok) throw std::runtime_error(samples[i].image + ": observation: " + describe(s));
-  }
+  auto observations = [&](const std::vector<ad::Prediction>& pred) {
+    std::vector<ConcentratedGaussian<SE3d>> obs(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Status s = ad::toObservation(pred[i], obs[i]);  // eq:se3_inverse_transform
+      if (s != Status::ok) throw std::runtime_error(samples[i].image + ": observation: " + describe(s));
+    }
+    return obs;
+  };
   std::vector<FilterRun> traces;
-  for (double sig : opt.sigma_psi) {
-    FilterRun run = replayFilter(samples, obs, sig, opt.seed);
-    for (const auto& note : run.notes) res.notes.push_back(note);
-    res.filter.push_back(run.row);
-    traces.push_back(std::move(run));
+  {
+    const auto obs = observations(gdn_pred);
+    for (double sig : opt.sigma_psi) {
+      FilterRun run = replayFilter(samples, obs, sig, opt.seed);
+      for (const auto& note : run.notes) res.notes.push_back(note);
+      res.filter.push_back(run.row);
+      traces.push_back(std::move(run));
+    }
+  }
+  if (gdn_card.hasSigmaCalibration()) {  // the same experiment with the card's calibrated σ
+    res.have_calibration = true;
+    res.sigma_scale = gdn_card.sigma_scale;
+    res.calibration_source = gdn_card.sigma_calibration_source;
+    for (std::size_t j = 0; j < 6; ++j) {
+      for (std::size_t i = 0; i < n; ++i)
+        if (std::fabs(gdn_mu[i][j] - actual[i][j]) * gdn_prec[i][j] <= res.sigma_scale[j])
+          res.gdn_coverage_calibrated[j] += 1.0;
+      res.gdn_coverage_calibrated[j] /= static_cast<double>(n);
+    }
+    const auto obs = observations(predictions(gdn_card));
+    for (double sig : opt.sigma_psi) {
+      FilterRun run = replayFilter(samples, obs, sig, opt.seed);
+      for (const auto& note : run.notes) res.notes.push_back("calibrated sigma: " + note);
+      res.filter_calibrated.push_back(run.row);
+    }
   }
   const auto t4 = Clock::now();
   res.seconds_filter = seconds(t3, t4);
@@ -476,6 +511,34 @@ const Vec6* paperFilterRow(double sigma) {
   return nullptr;
 }
 
+/// The "MAE ratio to σψ = ∞, ours [paper] (diff)" table; returns (ratios within ±15 %, ratios compared).
+std::pair<int, int> ratioTable(std::ostream& md, const std::vector<FilterRow>& filter, const Vec6& mae_inf) {
+  md << "| MAE ratio to σψ = ∞ |";
+  for (const auto& r : filter) md << " σψ = " << r.sigma_psi << " ours [paper] (diff) |";
+  md << "\n|---|";
+  for (std::size_t r = 0; r < filter.size(); ++r) md << "---|";
+  md << "\n";
+  int within = 0, total = 0;
+  for (std::size_t j = 0; j < 6; ++j) {
+    md << "| " << kComp[j] << " |";
+    for (const auto& r : filter) {
+      const double ours = r.mae[j] / mae_inf[j];
+      const Vec6* p = paperFilterRow(r.sigma_psi);
+      md << " " << f3(ours, 2);
+      if (p != nullptr) {
+        const double paper = (*p)[j] / PaperTables::filter_mae[0][j];
+        const double rel = ours / paper - 1.0;
+        md << " [" << f3(paper, 2) << "] (" << (rel >= 0 ? "+" : "") << f3(100.0 * rel, 0) << " %)";
+        ++total;
+        if (std::fabs(rel) <= 0.15) ++within;
+      }
+      md << " |";
+    }
+    md << "\n";
+  }
+  return {within, total};
+}
+
 }  // namespace
 
 std::string ReplayResults::table() const {
@@ -508,6 +571,16 @@ std::string ReplayResults::table() const {
       if (p != nullptr) os << " [x" << f3((*p)[j] / PaperTables::filter_mae[0][j], 2) << "]";
     }
     os << "\n";
+  }
+  if (have_calibration) {
+    os << "  with the card's calibrated sigma (scale";
+    for (double k : sigma_scale) os << " " << f3(k, 2);
+    os << "): ratio to sigma_psi = inf\n";
+    for (std::size_t j = 0; j < 6; ++j) {
+      os << "  " << std::left << std::setw(18) << kComp[j] << std::right << "      ";
+      for (const auto& r : filter_calibrated) os << "  " << f3(r.mae[j], precOf(j)) << " x" << f3(r.mae[j] / gdn_mae[j], 2);
+      os << "\n";
+    }
   }
   for (const auto& r : filter)
     if (r.failures > 0) os << "  sigma " << r.sigma_psi << ": " << r.failures << " filter steps failed\n";
@@ -553,7 +626,9 @@ std::string ReplayResults::markdown(const ReplayOptions& o, const std::string& c
   md << "\nLosses use the paper's units (mm, rad): CNN weighted MSE with α = (1,1,1,100,100,100); GDN mean NLL "
         "(eqn:gdn_mean_nll_loss_def) without and with the constant c = 3 ln 2π. Mean predicted GDN σ: ";
   for (std::size_t j = 0; j < 6; ++j) md << (j ? ", " : "") << f3(gdn_mean_sigma[j], precOf(j));
-  md << " (mm, deg).\n\n";
+  md << " (mm, deg); fraction of |error| ≤ σ: ";
+  for (std::size_t j = 0; j < 6; ++j) md << (j ? ", " : "") << f3(gdn_coverage[j], 2);
+  md << " (0.68 for a calibrated Gaussian).\n\n";
 
   md << "## Table 2 — SE(3) Bayes filter over the sequence (tab:bayes_filter_results)\n\n";
   md << "Tₖ = exp(ψₖ^) Xₖ Xₖ₋₁⁻¹ with Xₖ the label poses (eqn:se3_filter_exp_state_trans_model), "
@@ -577,29 +652,8 @@ std::string ReplayResults::markdown(const ReplayOptions& o, const std::string& c
     }
     md << "\n";
   }
-  md << "\n| MAE ratio to σψ = ∞ |";
-  for (const auto& r : filter) md << " σψ = " << r.sigma_psi << " ours [paper] (diff) |";
-  md << "\n|---|";
-  for (std::size_t r = 0; r < filter.size(); ++r) md << "---|";
   md << "\n";
-  int within = 0, total = 0;
-  for (std::size_t j = 0; j < 6; ++j) {
-    md << "| " << kComp[j] << " |";
-    for (const auto& r : filter) {
-      const double ours = r.mae[j] / gdn_mae[j];
-      const Vec6* p = paperFilterRow(r.sigma_psi);
-      md << " " << f3(ours, 2);
-      if (p != nullptr) {
-        const double paper = (*p)[j] / PaperTables::filter_mae[0][j];
-        const double rel = ours / paper - 1.0;
-        md << " [" << f3(paper, 2) << "] (" << (rel >= 0 ? "+" : "") << f3(100.0 * rel, 0) << " %)";
-        ++total;
-        if (std::fabs(rel) <= 0.15) ++within;
-      }
-      md << " |";
-    }
-    md << "\n";
-  }
+  const auto [within, total] = ratioTable(md, filter, gdn_mae);
   md << "\n" << within << " of " << total << " ratios within ±15 % of the paper's. The paper's ratios divide by "
         "Table 2's own σψ = ∞ column (its ω_x entry reads 0.50 there, 0.45 in Table 1).\n";
   md << "\nMean filtered σ (tangent, mm / deg):\n\n| σψ |";
@@ -609,6 +663,23 @@ std::string ReplayResults::markdown(const ReplayOptions& o, const std::string& c
     md << "| " << r.sigma_psi << " |";
     for (std::size_t j = 0; j < 6; ++j) md << " " << f3(r.mean_sigma[j], precOf(j)) << " |";
     md << " " << f3(r.mean_iterations, 1) << " | " << r.failures << " |\n";
+  }
+  if (have_calibration) {
+    md << "\n### Table 2 with the model card's σ calibration\n\n";
+    md << "The same experiment with each GDN σ multiplied by the card's `sigma_calibration.scale` = (";
+    for (std::size_t j = 0; j < 6; ++j) md << (j ? ", " : "") << f3(sigma_scale[j], 2);
+    md << "); the means are unchanged, so the σψ = ∞ column is Table 1's. Source of the factors: "
+       << (calibration_source.empty() ? std::string("not stated") : calibration_source) << ".\n\n";
+    md << "| |";
+    for (std::size_t j = 0; j < 6; ++j) md << " " << kComp[j] << " |";
+    md << "\n|---|---|---|---|---|---|---|\n| fraction of \\|error\\| ≤ σ, network σ |";
+    for (std::size_t j = 0; j < 6; ++j) md << " " << f3(gdn_coverage[j], 2) << " |";
+    md << "\n| fraction of \\|error\\| ≤ σ, calibrated σ |";
+    for (std::size_t j = 0; j < 6; ++j) md << " " << f3(gdn_coverage_calibrated[j], 2) << " |";
+    md << "\n\n(0.68 for a calibrated Gaussian.)\n\n";
+    const auto [cal_within, cal_total] = ratioTable(md, filter_calibrated, gdn_mae);
+    md << "\n" << cal_within << " of " << cal_total << " ratios within ±15 % of the paper's with the calibrated σ (" << within
+       << " with the network's).\n";
   }
   if (!plots.empty()) {
     md << "\n## Plots\n\nPredicted vs actual per component, coloured by predicted precision (red high, blue low), "

@@ -52,11 +52,18 @@ struct ReplayResults {
   bool have_cnn = false;
   Vec6 gdn_mae{};                 ///< mm, deg
   Vec6 cnn_mae{};
-  Vec6 gdn_mean_sigma{};          ///< mean predicted σ (mm, deg)
+  Vec6 gdn_mean_sigma{};          ///< mean predicted σ (mm, deg), the network's own
+  Vec6 gdn_coverage{};            ///< fraction of |error| <= σ (network σ; 0.683 for a calibrated Gaussian)
   double gdn_nll_rad = 0.0;       ///< mean NLL without c, rotations in radians (paper units)
   double gdn_nll_rad_with_c = 0.0;///< ... plus c = 3 ln(2π)
   double cnn_mse_rad = 0.0;       ///< weighted MSE, α = (1,1,1,100,100,100), rotations in radians
-  std::vector<FilterRow> filter;  ///< Table 2 (σψ = ∞ is gdn_mae)
+  std::vector<FilterRow> filter;  ///< Table 2 (σψ = ∞ is gdn_mae), the network's σ as in the paper
+  // When the model card has a σ calibration (ModelCard::sigma_scale), Table 2 again with it:
+  bool have_calibration = false;
+  Vec6 sigma_scale{1, 1, 1, 1, 1, 1};
+  std::string calibration_source;
+  Vec6 gdn_coverage_calibrated{};
+  std::vector<FilterRow> filter_calibrated;
   double seconds_load = 0.0, seconds_inference = 0.0, seconds_filter = 0.0, seconds_plots = 0.0,
          seconds_total = 0.0;
   double cpu_seconds_total = 0.0;  ///< process CPU time (all threads) spent in runReplay

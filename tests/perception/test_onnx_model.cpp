@@ -76,6 +76,51 @@ TEST_CASE("onnx: model card parsing", "[perception][onnx]") {
   perception_test::removeTree(dir);
 }
 
+TEST_CASE("onnx: a card's sigma calibration scales sigma and nothing else", "[perception][onnx]") {
+  const ModelCard plain = ModelCard::fromJsonFile(kData + "/tiny_model_card.json", ModelKind::gdn);
+  CHECK_FALSE(plain.hasSigmaCalibration());
+  CHECK(plain.sigma_calibration_source.empty());
+
+  const std::string dir = perception_test::makeTempDir("calib");
+  const std::string card = dir + "/card.json";
+  std::ofstream(card) << R"({"models": {"gdn": {"file": "g.onnx", "input": {"shape": [1, 1, 128, 128]},
+      "output": {"shape": [1, 12], "units": ["mm", "mm", "mm", "deg", "deg", "deg"]},
+      "sigma_calibration": {"scale": [1.0, 1.25, 0.5, 2.0, 1.0, 3.0], "source": "held-out images"}}}})";
+  const ModelCard c = ModelCard::fromJsonFile(card, ModelKind::gdn);
+  REQUIRE(c.hasSigmaCalibration());
+  CHECK(c.sigma_calibration_source == "held-out images");
+  const double raw[12] = {0.1, -0.2, 3.0, 1.5, -2.0, 0.25, 2.0, 4.0, 10.0, 1.0, 0.5, 0.8};
+  auto a = OnnxPoseModel::fromRaw(plain, raw), b = OnnxPoseModel::fromRaw(c, raw);
+  REQUIRE(a.ok());
+  REQUIRE(b.ok());
+  for (int j = 0; j < 6; ++j) {
+    CHECK(b->mu(j) == a->mu(j));  // μ untouched
+    CHECK(b->sigma(j) == Approx(c.sigma_scale[static_cast<std::size_t>(j)] * a->sigma(j)).epsilon(1e-15));
+  }
+  for (std::size_t j = 0; j < 12; ++j) CHECK(b->raw[j] == raw[j]);  // the network's outputs as returned
+
+  // The flat card form takes the same entry.
+  std::ofstream(card) << R"({"kind": "gdn", "input_size": 128, "outputs": 12, "output_units": ["mm", "mm", "mm", "deg", "deg", "deg"],
+                             "sigma_calibration": {"scale": [1, 1, 1, 2, 2, 1]}})";
+  CHECK(ModelCard::fromJsonFile(card, ModelKind::gdn).sigma_scale[4] == 2.0);
+  // Bad factors name the field; a CNN has no σ to calibrate.
+  const std::string head = R"({"kind": "gdn", "input_size": 128, "outputs": 12, "output_units": ["mm", "mm", "mm", "deg", "deg", "deg"], )";
+  std::ofstream(card) << head << R"("sigma_calibration": {"scale": [1, 1, 1, 2, 2]}})";
+  CHECK_THROWS_WITH(ModelCard::fromJsonFile(card, ModelKind::gdn), Catch::Contains("expected 6 factors, found 5"));
+  std::ofstream(card) << head << R"("sigma_calibration": {"scale": [1, 1, 1, 2, 0, 1]}})";
+  CHECK_THROWS_WITH(ModelCard::fromJsonFile(card, ModelKind::gdn), Catch::Contains("scale[4] must be a finite number > 0"));
+  std::ofstream(card) << head << R"("sigma_calibration": {"scale": [1, 1, 1, 2, -1, 1]}})";
+  CHECK_THROWS_WITH(ModelCard::fromJsonFile(card, ModelKind::gdn), Catch::Contains("scale[4]"));
+  std::ofstream(card) << head << R"("sigma_calibration": {"scale": [1, 1, "x", 2, 1, 1]}})";
+  CHECK_THROWS_WITH(ModelCard::fromJsonFile(card, ModelKind::gdn), Catch::Contains("scale[2]"));
+  std::ofstream(card) << head << R"("sigma_calibration": {"factor": 2}})";
+  CHECK_THROWS_WITH(ModelCard::fromJsonFile(card, ModelKind::gdn), Catch::Contains("missing key \"scale\""));
+  std::ofstream(card) << R"({"kind": "cnn", "input_size": 128, "outputs": 6, "output_units": ["mm", "mm", "mm", "deg", "deg", "deg"],
+                             "sigma_calibration": {"scale": [1, 1, 1, 2, 2, 1]}})";
+  CHECK_THROWS_WITH(ModelCard::fromJsonFile(card, ModelKind::cnn), Catch::Contains("no sigma to calibrate"));
+  perception_test::removeTree(dir);
+}
+
 TEST_CASE("onnx: tiny GDN through cv::dnn matches PyTorch and converts units", "[perception][onnx]") {
   OnnxPoseModel gdn = OnnxPoseModel::fromCard(kData + "/tiny_model_card.json", ModelKind::gdn);
   REQUIRE(gdn.hasUncertainty());

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
 #include <string>
 
@@ -156,6 +157,38 @@ TEST_CASE("replay: end to end on real images with the tiny test models", "[perce
   const ReplayResults c = runReplay(o);
   CHECK(c.inference_cached);
   for (std::size_t j = 0; j < 6; ++j) CHECK(c.gdn_mae[j] == Approx(r.gdn_mae[j]).epsilon(1e-6));
+  CHECK_FALSE(c.have_calibration);
+  CHECK(c.filter_calibrated.empty());
+
+  // A card with a σ calibration: the paper's tables stay as they were (the network's σ), and
+  // Table 2 is repeated with the scaled σ.
+  {
+    std::ifstream in(models + "/model_card.json");
+    std::string card((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string at = "\"gdn\": {";
+    REQUIRE(card.find(at) != std::string::npos);
+    card.insert(card.find(at) + at.size(), R"("sigma_calibration": {"scale": [1, 1, 1, 3, 3, 1], "source": "unit test"},)");
+    std::ofstream(models + "/model_card.json") << card;
+  }
+  const ReplayResults k = runReplay(o);
+  REQUIRE(k.have_calibration);
+  CHECK(k.calibration_source == "unit test");
+  REQUIRE(k.filter_calibrated.size() == k.filter.size());
+  for (std::size_t j = 0; j < 6; ++j) {
+    CHECK(k.gdn_mae[j] == c.gdn_mae[j]);
+    CHECK(k.gdn_coverage[j] == c.gdn_coverage[j]);
+    for (std::size_t i = 0; i < k.filter.size(); ++i) CHECK(k.filter[i].mae[j] == c.filter[i].mae[j]);
+    if (j == 3 || j == 4) CHECK(k.gdn_coverage_calibrated[j] >= k.gdn_coverage[j]);
+    else CHECK(k.gdn_coverage_calibrated[j] == k.gdn_coverage[j]);
+  }
+  bool changed = false;  // a tilt σ three times larger changes the filtered tilts
+  for (std::size_t i = 0; i < k.filter.size(); ++i)
+    changed = changed || k.filter_calibrated[i].mae[3] != k.filter[i].mae[3];
+  CHECK(changed);
+  const std::string kmd = k.markdown(o, "lieservo_replay --quick 40");
+  CHECK(kmd.find("Table 2 with the model card's σ calibration") != std::string::npos);
+  CHECK(kmd.find("unit test") != std::string::npos);
+  CHECK(md.find("calibration") == std::string::npos);
 
   // Missing model: clear error.
   fs::remove(models + "/tiny_gdn.onnx");

@@ -59,6 +59,20 @@ std::array<std::string, 6> parseUnits(const JsonDocument& doc, const JsonValue& 
   return out;
 }
 
+/// sigma_calibration: {"scale": [6 finite numbers > 0], "source": "..." (optional)}.
+void parseSigmaCalibration(const JsonDocument& doc, const JsonValue& v, const std::string& where, ModelCard& c) {
+  const auto& scale = doc.asArray(doc.at(v, "scale"), where + ".scale");
+  if (scale.size() != 6)
+    doc.fail(v, where + ".scale: expected 6 factors, found " + std::to_string(scale.size()));
+  for (std::size_t i = 0; i < 6; ++i) {
+    const double k = doc.asNumber(scale[i], where + ".scale[" + std::to_string(i) + "]");
+    if (!(k > 0.0) || !std::isfinite(k))
+      doc.fail(scale[i], where + ".scale[" + std::to_string(i) + "] must be a finite number > 0");
+    c.sigma_scale[i] = k;
+  }
+  if (const JsonValue* src = v.find("source")) c.sigma_calibration_source = doc.asString(*src, where + ".source");
+}
+
 int lastNumber(const JsonDocument& doc, const JsonValue& shape, const std::string& where) {
   const auto& a = doc.asArray(shape, where);
   if (a.empty()) doc.fail(shape, where + ": empty shape");
@@ -96,6 +110,8 @@ ModelCard ModelCard::fromJsonFile(const std::string& path, ModelKind kind) {
       const JsonValue& out = doc.at(*e, "output");
       c.outputs = lastNumber(doc, doc.at(out, "shape"), "models." + k + ".output.shape");
       c.units = parseUnits(doc, doc.at(out, "units"), "models." + k + ".output.units");
+      if (const JsonValue* cal = e->find("sigma_calibration"))
+        parseSigmaCalibration(doc, *cal, "models." + k + ".sigma_calibration", c);
     } else {
       const std::string declared = doc.asString(doc.at(r, "kind"), "kind");
       if (declared != k) throw std::runtime_error("card is for a \"" + declared + "\" model, not \"" + k + "\"");
@@ -103,6 +119,7 @@ ModelCard ModelCard::fromJsonFile(const std::string& path, ModelKind kind) {
       c.input_size = doc.asInt(doc.at(r, "input_size"), "input_size");
       c.outputs = doc.asInt(doc.at(r, "outputs"), "outputs");
       c.units = parseUnits(doc, doc.at(r, "output_units"), "output_units");
+      if (const JsonValue* cal = r.find("sigma_calibration")) parseSigmaCalibration(doc, *cal, "sigma_calibration", c);
     }
     for (std::size_t i = 0; i < 6; ++i)
       c.to_library[i] = unitFactor(c.units[i], "unit of component " + std::to_string(i + 1));
@@ -111,6 +128,8 @@ ModelCard ModelCard::fromJsonFile(const std::string& path, ModelKind kind) {
       throw std::runtime_error("a " + k + " model should have " + std::to_string(expected) + " outputs, card says " +
                                std::to_string(c.outputs));
     if (c.input_size <= 0) throw std::runtime_error("input size must be positive");
+    if (kind == ModelKind::cnn && c.hasSigmaCalibration())
+      throw std::runtime_error("a cnn model has no sigma to calibrate (sigma_calibration given)");
   } catch (const DatasetError&) {
     throw;  // already names the file, line and column
   } catch (const std::runtime_error& e) {
@@ -217,7 +236,7 @@ Result<Prediction> OnnxPoseModel::fromRaw(const ModelCard& card, const double* r
       if (!(s_inv > 0.0))
         return makeError(ErrorCode::non_finite_output,
                          "sigma^-1 of component " + std::to_string(j + 1) + " is not positive");
-      p.sigma(j) = f / s_inv;  // σ = 1/σ⁻¹, in library units
+      p.sigma(j) = f * card.sigma_scale[static_cast<std::size_t>(j)] / s_inv;  // σ = 1/σ⁻¹, library units
     }
   }
   return p;

@@ -31,9 +31,21 @@ struct ModelCard {
   /// Per-component factor from network units to library units (mm -> 1, deg -> π/180, rad -> 1).
   std::array<double, 6> to_library{1, 1, 1, 1, 1, 1};
   std::array<std::string, 6> units{"mm", "mm", "mm", "deg", "deg", "deg"};
+  /// σ calibration (GDN only): Prediction::sigma = sigma_scale ⊙ (the network's σ). All ones
+  /// (the network as trained, the paper's use) unless the card has
+  /// `sigma_calibration: {"scale": [6 positive numbers], "source": "..."}` — factors measured on
+  /// images the network did not train on (examples/gdn/calibrate_sigma.py).
+  std::array<double, 6> sigma_scale{1, 1, 1, 1, 1, 1};
+  std::string sigma_calibration_source;  ///< where sigma_scale comes from ("" = none)
+  bool hasSigmaCalibration() const noexcept {
+    for (double k : sigma_scale)
+      if (k != 1.0) return true;
+    return false;
+  }
 
   /// Reads model_card.json. Accepts the project's card (models.{gdn,cnn}.{file,input.shape,
-  /// output.shape,output.units}) and a flat card ({"kind", "input_size", "output_units": [6 strings]}).
+  /// output.shape,output.units}) and a flat card ({"kind", "input_size", "output_units": [6 strings]}),
+  /// either with an optional sigma_calibration entry (GDN only).
   /// Throws std::runtime_error naming the file and the missing/invalid field.
   static ModelCard fromJsonFile(const std::string& path, ModelKind kind);
 };
@@ -65,7 +77,7 @@ class OnnxPoseModel {
   Result<std::vector<Prediction>> predictBatch(const std::vector<cv::Mat>& images);
 
   /// Converts raw network outputs (card.outputs values, network units) to a Prediction
-  /// (library units). non_finite_output for NaN/inf or σ⁻¹ <= 0.
+  /// (library units; σ multiplied by card.sigma_scale). non_finite_output for NaN/inf or σ⁻¹ <= 0.
   static Result<Prediction> fromRaw(const ModelCard& card, const double* raw);
 
  private:
