@@ -656,14 +656,17 @@ std::string ReplayResults::markdown(const ReplayOptions& o, const std::string& c
   const auto [within, total] = ratioTable(md, filter, gdn_mae);
   md << "\n" << within << " of " << total << " ratios within ±15 % of the paper's. The paper's ratios divide by "
         "Table 2's own σψ = ∞ column (its ω_x entry reads 0.50 there, 0.45 in Table 1).\n";
-  md << "\nMean filtered σ (tangent, mm / deg):\n\n| σψ |";
-  for (std::size_t j = 0; j < 6; ++j) md << " " << kComp[j] << " |";
-  md << " fusion iterations | failed steps |\n|---|---|---|---|---|---|---|---|---|\n";
-  for (const auto& r : filter) {
-    md << "| " << r.sigma_psi << " |";
-    for (std::size_t j = 0; j < 6; ++j) md << " " << f3(r.mean_sigma[j], precOf(j)) << " |";
-    md << " " << f3(r.mean_iterations, 1) << " | " << r.failures << " |\n";
-  }
+  auto sigmaTable = [&md](const std::vector<FilterRow>& rows) {
+    md << "\nMean filtered σ (tangent, mm / deg):\n\n| σψ |";
+    for (std::size_t j = 0; j < 6; ++j) md << " " << kComp[j] << " |";
+    md << " fusion iterations | failed steps |\n|---|---|---|---|---|---|---|---|---|\n";
+    for (const auto& r : rows) {
+      md << "| " << r.sigma_psi << " |";
+      for (std::size_t j = 0; j < 6; ++j) md << " " << f3(r.mean_sigma[j], precOf(j)) << " |";
+      md << " " << f3(r.mean_iterations, 1) << " | " << r.failures << " |\n";
+    }
+  };
+  sigmaTable(filter);
   if (have_calibration) {
     md << "\n### Table 2 with the model card's σ calibration\n\n";
     md << "The same experiment with each GDN σ multiplied by the card's `sigma_calibration.scale` = (";
@@ -680,6 +683,7 @@ std::string ReplayResults::markdown(const ReplayOptions& o, const std::string& c
     const auto [cal_within, cal_total] = ratioTable(md, filter_calibrated, gdn_mae);
     md << "\n" << cal_within << " of " << cal_total << " ratios within ±15 % of the paper's with the calibrated σ (" << within
        << " with the network's).\n";
+    sigmaTable(filter_calibrated);
   }
   if (!plots.empty()) {
     md << "\n## Plots\n\nPredicted vs actual per component, coloured by predicted precision (red high, blue low), "
@@ -692,7 +696,7 @@ std::string ReplayResults::markdown(const ReplayOptions& o, const std::string& c
     for (const auto& note : notes) md << "- " << note << "\n";
   }
   md << "\n## Timing\n\nload " << f3(seconds_load, 2) << " s, inference " << f3(seconds_inference, 2) << " s"
-     << (inference_cached ? " (cached)" : "") << ", filter (" << filter.size() << " runs) " << f3(seconds_filter, 2)
+     << (inference_cached ? " (cached)" : "") << ", filter (" << filter.size() + filter_calibrated.size() << " runs) " << f3(seconds_filter, 2)
      << " s, plots " << f3(seconds_plots, 2) << " s, total " << f3(seconds_total, 2) << " s wall, "
      << f3(cpu_seconds_total, 1) << " s CPU (all threads; the wall time depends on the machine's load). "
         "With `--cache FILE` the network outputs are kept (keyed by the ONNX files' hashes) and a re-run "
