@@ -393,7 +393,6 @@ ReplayResults runReplay(const ReplayOptions& opt) {
       const int jj = static_cast<int>(j);
       res.gdn_mae[j] += std::fabs(gdn_mu[i][j] - actual[i][j]);
       res.gdn_mean_sigma[j] += 1.0 / gdn_prec[i][j];
-      if (std::fabs(gdn_mu[i][j] - actual[i][j]) * gdn_prec[i][j] <= 1.0) res.gdn_coverage[j] += 1.0;
       const double z = (samples[i].xi[j] - gdn_pred[i].mu(jj)) / gdn_pred[i].sigma(jj);  // mm, rad
       nll += 0.5 * z * z + std::log(gdn_pred[i].sigma(jj));
       if (with_cnn) {
@@ -405,8 +404,18 @@ ReplayResults runReplay(const ReplayOptions& opt) {
   for (std::size_t j = 0; j < 6; ++j) {
     res.gdn_mae[j] /= static_cast<double>(n);
     res.gdn_mean_sigma[j] /= static_cast<double>(n);
-    res.gdn_coverage[j] /= static_cast<double>(n);
   }
+  // Fraction of |error| <= scale_j · σ (the network's σ), per component.
+  auto coverage = [&](const Vec6& scale) {
+    Vec6 c{};
+    for (std::size_t j = 0; j < 6; ++j) {
+      for (std::size_t i = 0; i < n; ++i)
+        if (std::fabs(gdn_mu[i][j] - actual[i][j]) * gdn_prec[i][j] <= scale[j]) c[j] += 1.0;
+      c[j] /= static_cast<double>(n);
+    }
+    return c;
+  };
+  res.gdn_coverage = coverage(Vec6{1, 1, 1, 1, 1, 1});
   res.have_gdn = true;
   res.gdn_nll_rad = nll / static_cast<double>(n);
   res.gdn_nll_rad_with_c = res.gdn_nll_rad + 3.0 * std::log(2.0 * kPi);
@@ -445,12 +454,7 @@ ReplayResults runReplay(const ReplayOptions& opt) {
     res.have_calibration = true;
     res.sigma_scale = gdn_card.sigma_scale;
     res.calibration_source = gdn_card.sigma_calibration_source;
-    for (std::size_t j = 0; j < 6; ++j) {
-      for (std::size_t i = 0; i < n; ++i)
-        if (std::fabs(gdn_mu[i][j] - actual[i][j]) * gdn_prec[i][j] <= res.sigma_scale[j])
-          res.gdn_coverage_calibrated[j] += 1.0;
-      res.gdn_coverage_calibrated[j] /= static_cast<double>(n);
-    }
+    res.gdn_coverage_calibrated = coverage(res.sigma_scale);
     const auto obs = observations(predictions(gdn_card));
     for (double sig : opt.sigma_psi) {
       FilterRun run = replayFilter(samples, obs, sig, opt.seed);

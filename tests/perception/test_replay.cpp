@@ -178,7 +178,7 @@ TEST_CASE("replay: end to end on real images with the tiny test models", "[perce
     CHECK(k.gdn_mae[j] == c.gdn_mae[j]);
     CHECK(k.gdn_coverage[j] == c.gdn_coverage[j]);
     for (std::size_t i = 0; i < k.filter.size(); ++i) CHECK(k.filter[i].mae[j] == c.filter[i].mae[j]);
-    if (j == 3 || j == 4) CHECK(k.gdn_coverage_calibrated[j] >= k.gdn_coverage[j]);
+    if (j == 3 || j == 4) CHECK(k.gdn_coverage_calibrated[j] > k.gdn_coverage[j]);  // σ × 3 covers more
     else CHECK(k.gdn_coverage_calibrated[j] == k.gdn_coverage[j]);
   }
   bool changed = false;  // a tilt σ three times larger changes the filtered tilts
