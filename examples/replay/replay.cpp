@@ -215,7 +215,7 @@ std::vector<Sample> readTargets(const std::string& csv_path) {
 }
 
 FilterRun replayFilter(const std::vector<Sample>& samples, const std::vector<ConcentratedGaussian<SE3d>>& obs,
-                       double sig, std::uint64_t seed) {
+                       double sig, std::uint64_t seed, const FusionOptions<double>& fusion) {
   const std::size_t n = std::min(samples.size(), obs.size());
   FilterRun run;
   FilterRow& row = run.row;
@@ -234,6 +234,7 @@ FilterRun replayFilter(const std::vector<Sample>& samples, const std::vector<Con
   sd << sig, sig, sig, sig * kDeg2Rad, sig * kDeg2Rad, sig * kDeg2Rad;
   DiscriminativeBayesFilter<SE3d>::Options fo;
   fo.process_noise = sd.array().square().matrix().asDiagonal();  // Σφ = Σψ
+  fo.fusion = fusion;
   DiscriminativeBayesFilter<SE3d> filter(fo);
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal(0.0, 1.0);

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "lieservo/estimation/concentrated_gaussian.hpp"
+#include "lieservo/estimation/fusion.hpp"
 #include "lieservo/groups/se3.hpp"
 
 namespace lieservo::replay {
@@ -96,7 +97,8 @@ std::vector<Sample> readTargets(const std::string& csv_path);
 /// The Table 2 experiment on one sequence: states Xₖ = exp(ξₖ^) from the samples' labels,
 /// observations `obs`, Tₖ = exp(ψₖ^) Xₖ Xₖ₋₁⁻¹ with ψₖ ~ N(0, diag(σψ² [mm², mm², mm², rad², rad², rad²]))
 /// (σψ given in mm and deg), Σφ = Σψ. Returns the row (MAE vs the labels) and the filtered
-/// estimates (mm, deg) and precisions (1/mm, 1/deg) per step.
+/// estimates (mm, deg) and precisions (1/mm, 1/deg) per step. `fusion`: the correction's
+/// iterations (default: the paper's fixed 5).
 struct FilterRun {
   FilterRow row;
   std::vector<Vec6> mu;
@@ -104,7 +106,7 @@ struct FilterRun {
   std::vector<std::string> notes;
 };
 FilterRun replayFilter(const std::vector<Sample>& samples, const std::vector<ConcentratedGaussian<SE3d>>& obs,
-                       double sigma_psi, std::uint64_t seed);
+                       double sigma_psi, std::uint64_t seed, const FusionOptions<double>& fusion = {});
 
 // The paper's numbers (means over 10 models, test set), for the report.
 struct PaperTables {

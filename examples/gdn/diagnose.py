@@ -1,0 +1,243 @@
+#!/usr/bin/python3
+"""Where the shipped models' errors come from: the numbers behind examples/gdn/README.md,
+"Diagnosis". Nothing here is tuned on the validation set; it only measures.
+
+    /usr/bin/python3 examples/gdn/diagnose.py [--holdout-run DIR] [--train-every 3]
+
+1. MAE by contact depth z on training images the shipped models trained on and on the
+   validation set (GDN and CNN): is the shear error a failure to fit or to generalise?
+2. Coverage (fraction of |error| <= sigma) of the GDN's sigma by depth, with the network's
+   sigma and with the card's constant calibration factors (models.gdn.sigma_calibration).
+3. A scalar model of one Bayes-filter correction per component, in the concentrated regime:
+   the prior is the truth plus p ~ N(0, sigma_psi^2) (the replay's T_k = exp(psi^) X_k X_{k-1}^-1
+   with the filtered error neglected), so the fused error is (1 - w) e + w p with
+   w = sigma^2 / (sigma^2 + sigma_psi^2). It shows which depths the filter helps or hurts when
+   sigma is wrong, without the SE(3) coupling of lieservo_replay.
+4. With --holdout-run (a `train.py --holdout N` run, e.g. run H): a power-law calibration
+   sigma' = a sigma^b per component (network units mm, deg), fitted on the held-out training
+   rows by quantile regression of log|error| on log sigma at 68.27 %, and its coverage by depth
+   on the validation set. A constant factor is the special case b = 1.
+
+Units: mm and degrees (the networks' output units); sigma_psi in mm for rho, degrees for phi,
+as in the paper's Table 2.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+
+from calibrate_sigma import COMP, GAUSS_1SIGMA  # noqa: E402
+
+DEPTH_EDGES = (0.5, 1.5, 3.0, 6.0)  # mm: shallow contacts, where the sensor slips, come first
+
+
+def bin_index(z: np.ndarray, edges=DEPTH_EDGES) -> np.ndarray:
+    """Bin of each depth: 0 for edges[0] <= z < edges[1], ...; the last bin is closed on the
+    right. Depths outside [edges[0], edges[-1]] raise ValueError."""
+    z = np.asarray(z, np.float64)
+    if np.any(z < edges[0]) or np.any(z > edges[-1]) or not np.all(np.isfinite(z)):
+        raise ValueError(f'depths outside [{edges[0]}, {edges[-1]}]')
+    return np.minimum(np.searchsorted(edges, z, side='right') - 1, len(edges) - 2)
+
+
+def mae_by_bin(err: np.ndarray, z: np.ndarray, edges=DEPTH_EDGES):
+    """(counts [B], MAE [B, k]) of the rows of err [N, k] per depth bin (NaN for an empty bin)."""
+    b = bin_index(z, edges)
+    nb = len(edges) - 1
+    counts = np.bincount(b, minlength=nb)
+    mae = np.full((nb, err.shape[1]), np.nan)
+    for i in range(nb):
+        if counts[i]:
+            mae[i] = np.abs(err[b == i]).mean(0)
+    return counts, mae
+
+
+def coverage_by_bin(err: np.ndarray, sigma: np.ndarray, z: np.ndarray, edges=DEPTH_EDGES) -> np.ndarray:
+    """Fraction of |err| <= sigma per depth bin and column ([B, k]; NaN for an empty bin)."""
+    b = bin_index(z, edges)
+    out = np.full((len(edges) - 1, err.shape[1]), np.nan)
+    for i in range(len(edges) - 1):
+        if np.any(b == i):
+            out[i] = np.mean(np.abs(err[b == i]) <= sigma[b == i], axis=0)
+    return out
+
+
+def fit_power_calibration(err: np.ndarray, sigma: np.ndarray, coverage: float = GAUSS_1SIGMA,
+                          exponents=np.arange(0.0, 2.0005, 0.01)):
+    """Per column, (a, b) such that |err| <= a sigma^b for `coverage` of the rows, uniformly in
+    sigma: the linear quantile regression log|err| ~ log a + b log sigma at that quantile
+    (pinball loss). For a given b the best log a is the quantile of log|err| - b log sigma, so
+    b is found on the grid `exponents`. Returns arrays a [k], b [k]."""
+    err, sigma = np.asarray(err, np.float64), np.asarray(sigma, np.float64)
+    if err.shape != sigma.shape or err.ndim != 2 or len(err) == 0:
+        raise ValueError(f'err {err.shape} and sigma {sigma.shape} must be the same [N, k], N > 0')
+    if not (np.all(np.isfinite(sigma)) and np.all(sigma > 0) and np.all(np.isfinite(err))):
+        raise ValueError('sigma must be finite and > 0, err finite')
+    tau = coverage
+    a, b = np.empty(err.shape[1]), np.empty(err.shape[1])
+    tiny = np.finfo(np.float64).tiny
+    for j in range(err.shape[1]):
+        le, ls = np.log(np.maximum(np.abs(err[:, j]), tiny)), np.log(sigma[:, j])
+        best = None
+        for e in exponents:
+            r = le - e * ls
+            la = np.quantile(r, tau)
+            r = r - la
+            loss = np.mean(np.maximum(tau * r, (tau - 1.0) * r))
+            if best is None or loss < best[0]:
+                best = (loss, e, la)
+        b[j], a[j] = best[1], np.exp(best[2])
+    return a, b
+
+
+def scalar_filter_ratio(err: np.ndarray, sigma: np.ndarray, sigma_psi, reps: int = 20,
+                        seed: int = 0) -> np.ndarray:
+    """MAE of (1 - w) e + w p over MAE of e per column, w = sigma^2 / (sigma^2 + sigma_psi^2),
+    p ~ N(0, sigma_psi^2), averaged over `reps` draws of p. sigma_psi: scalar or per column."""
+    err, sigma = np.asarray(err, np.float64), np.asarray(sigma, np.float64)
+    sp = np.broadcast_to(np.asarray(sigma_psi, np.float64), (err.shape[1],))
+    w = sigma ** 2 / (sigma ** 2 + sp ** 2)
+    rng = np.random.RandomState(seed)
+    base = np.abs(err).mean(0)
+    out = np.zeros(err.shape[1])
+    for _ in range(reps):
+        p = rng.standard_normal(err.shape) * sp
+        out += np.abs((1.0 - w) * err + w * p).mean(0)
+    return out / reps / base
+
+
+def _row(label, v, fmt='{:7.3f}'):
+    return f'{label:<40}' + ' '.join(fmt.format(x) for x in v)
+
+
+def main(argv=None) -> int:
+    import cv2
+    from dataset import default_data_dir, load_split
+    import labels as L
+
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument('--data', default=None)
+    ap.add_argument('--models', default=os.path.join(HERE, 'models'))
+    ap.add_argument('--train-every', type=int, default=3, help='use every k-th training image (default 3: 2000)')
+    ap.add_argument('--holdout-run', default=None, help='a train.py --holdout run: fit a power-law calibration')
+    ap.add_argument('--sigma-psi', type=float, default=10.0, help='for the scalar filter model (mm and deg)')
+    ap.add_argument('--dump', default=None, help='write the val rows for lieservo_filter_diagnosis to this file')
+    ap.add_argument('--dump-sigma', choices=['network', 'card', 'power'], default='network',
+                    help='the sigma written by --dump (power needs --holdout-run)')
+    args = ap.parse_args(argv)
+    if args.dump and args.dump_sigma == 'power' and not args.holdout_run:
+        ap.error('--dump-sigma power needs --holdout-run')
+
+    data = args.data or default_data_dir()
+    tr = load_split(data, 'train', verbose=False)
+    va = load_split(data, 'val', verbose=False)
+    with open(os.path.join(args.models, 'model_card.json')) as f:
+        card = json.load(f)
+    scale = np.asarray(card['models']['gdn'].get('sigma_calibration', {}).get('scale', [1.0] * 6))
+
+    def onnx_outputs(name, split, idx):
+        net = cv2.dnn.readNetFromONNX(os.path.join(args.models, name))
+        x = split.images[idx]
+        outs = []
+        for i in range(0, len(x), 100):
+            net.setInput(x[i:i + 100])
+            outs.append(net.forward())
+        return np.concatenate(outs).astype(np.float64)
+
+    def labels_of(split, idx):
+        return L.to_train_units(L.xi_from_euler6(split.euler6))[idx]   # mm, deg
+
+    nb = len(DEPTH_EDGES) - 1
+    bins = [f'z {DEPTH_EDGES[i]:g}-{DEPTH_EDGES[i + 1]:g} mm' for i in range(nb)]
+    print(_row('', COMP, '{:>7}'))
+    splits = [('train (trained on)', tr, np.arange(0, len(tr), args.train_every)),
+              ('val', va, np.arange(len(va)))]
+    gdn_val = None
+    print('\n1. MAE by depth (mm, deg)')
+    for model in ('gdn', 'cnn'):
+        if not os.path.isfile(os.path.join(args.models, f'{model}.onnx')):
+            print(f'{model}.onnx: not found, skipped')
+            continue
+        for label, split, idx in splits:
+            out = onnx_outputs(f'{model}.onnx', split, idx)
+            err = out[:, :6] - labels_of(split, idx)
+            z = split.euler6[idx, 2]
+            counts, mae = mae_by_bin(err, z)
+            print(_row(f'{model} {label} all (n {len(idx)})', np.abs(err).mean(0)))
+            for i in range(nb):
+                print(_row(f'  {bins[i]} (n {counts[i]})', mae[i]))
+            if model == 'gdn' and split is va:
+                gdn_val = (err, 1.0 / out[:, 6:], z)
+    if gdn_val is None:
+        if args.dump:
+            raise SystemExit('--dump: no GDN model')
+        return 0
+
+    err, sig, z = gdn_val
+    print('\n2. Coverage of the GDN sigma on val (0.683 for a calibrated Gaussian)')
+    for label, s in (('network sigma', sig), ('card factors ' + ' '.join(f'{v:.2f}' for v in scale), sig * scale)):
+        cov = coverage_by_bin(err, s, z)
+        print(_row(f'{label}: all', np.mean(np.abs(err) <= s, axis=0)))
+        for i in range(nb):
+            print(_row(f'  {bins[i]}', cov[i]))
+
+    print(_row('q68 |error|/network sigma: all', np.quantile(np.abs(err) / sig, GAUSS_1SIGMA, axis=0)))
+    bz = bin_index(z)
+    for i in range(nb):
+        print(_row(f'  {bins[i]}', np.quantile(np.abs(err[bz == i]) / sig[bz == i], GAUSS_1SIGMA, axis=0)))
+
+    print(f'\n3. Scalar filter model on val, sigma_psi = {args.sigma_psi:g}: MAE ratio to unfiltered')
+    b = bin_index(z)
+    cal = [('network sigma', sig), ('card factors', sig * scale)]
+
+    if args.holdout_run:
+        import torch
+        from export_onnx import load_ckpt, torch_forward
+        torch.set_num_threads(2)
+        held = np.loadtxt(os.path.join(args.holdout_run, 'holdout.txt'), dtype=np.int64, ndmin=1)
+        model, _ = load_ckpt(os.path.join(args.holdout_run, 'gdn_last.pt'))
+        x = tr.images[held]
+        out = np.concatenate([torch_forward(model, x[i:i + 100]) for i in range(0, len(x), 100)]).astype(np.float64)
+        a, bexp = fit_power_calibration(out[:, :6] - labels_of(tr, held), 1.0 / out[:, 6:])
+        cal.append(('power law', a * sig ** bexp))
+    for label, s in cal:
+        print(_row(f'{label}: all', scalar_filter_ratio(err, s, args.sigma_psi)))
+        for i in range(nb):
+            print(_row(f'  {bins[i]}', scalar_filter_ratio(err[b == i], s[b == i], args.sigma_psi)))
+
+    if args.holdout_run:
+        print(f'\n4. Power-law calibration sigma\' = a sigma^b, fitted on the {len(held)} rows held out of '
+              f'{args.holdout_run}')
+        print(_row('a', a, '{:7.3f}'))
+        print(_row('b', bexp, '{:7.2f}'))
+        s = a * sig ** bexp
+        cov = coverage_by_bin(err, s, z)
+        print(_row('coverage on val: all', np.mean(np.abs(err) <= s, axis=0)))
+        for i in range(nb):
+            print(_row(f'  {bins[i]}', cov[i]))
+
+    if args.dump:
+        s = dict(cal)[{'network': 'network sigma', 'card': 'card factors', 'power': 'power law'}[args.dump_sigma]]
+        write_dump(args.dump, z, labels_of(va, np.arange(len(va))), err, s, args.dump_sigma)
+        print(f'\nwrote {len(z)} rows ({args.dump_sigma} sigma) to {args.dump}')
+    return 0
+
+
+def write_dump(path: str, z, label, err, sigma, what: str) -> None:
+    """The rows for lieservo_filter_diagnosis: z (mm), label xi, mean mu = label + err and sigma,
+    each [N, 6] given in mm and deg and written in mm and rad, one row per image, %.17g."""
+    to_rad = np.array([1.0, 1.0, 1.0, np.pi / 180, np.pi / 180, np.pi / 180])
+    rows = np.hstack([np.asarray(z, np.float64)[:, None], label * to_rad, (label + err) * to_rad, sigma * to_rad])
+    np.savetxt(path, rows, fmt='%.17g',
+               header=f'z_mm xi(6) mu(6) sigma(6) in mm and rad; sigma: {what}; written by examples/gdn/diagnose.py')
+
+
+if __name__ == '__main__':
+    sys.exit(main())
