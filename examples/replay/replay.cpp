@@ -690,6 +690,8 @@ std::string ReplayResults::markdown(const ReplayOptions& o, const std::string& c
        << " with the network's).\n";
     sigmaTable(filter_calibrated);
   }
+  md << "\nWhere the remaining gaps come from (shear error by contact depth, σ coverage by depth, the "
+        "filter's effect per depth with `lieservo_filter_diagnosis`): examples/gdn/README.md, \"Diagnosis\".\n";
   if (!plots.empty()) {
     md << "\n## Plots\n\nPredicted vs actual per component, coloured by predicted precision (red high, blue low), "
           "like the paper's fig:nn_pose_shear_estimate_performance and fig:bayes_filter_performance "
