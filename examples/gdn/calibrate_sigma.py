@@ -35,14 +35,21 @@ GAUSS_1SIGMA = 0.6826894921370859  # P(|z| <= 1) for z ~ N(0, 1)
 COMP = ['rho1', 'rho2', 'rho3', 'phi1', 'phi2', 'phi3']
 
 
-def sigma_scale(err: np.ndarray, sigma: np.ndarray, coverage: float = GAUSS_1SIGMA) -> np.ndarray:
-    """Per-column factor k with mean(|err| <= k sigma) = coverage (the quantile of |err|/sigma).
-    err, sigma: [N, 6] in the same units; sigma > 0 and finite."""
+def checked_err_sigma(err, sigma):
+    """(err, sigma) as float64 [N, k] arrays; ValueError unless the shapes match, N > 0, sigma is
+    finite and > 0 and err finite."""
     err, sigma = np.asarray(err, np.float64), np.asarray(sigma, np.float64)
     if err.shape != sigma.shape or err.ndim != 2 or len(err) == 0:
         raise ValueError(f'err {err.shape} and sigma {sigma.shape} must be the same [N, k], N > 0')
     if not (np.all(np.isfinite(sigma)) and np.all(sigma > 0) and np.all(np.isfinite(err))):
         raise ValueError('sigma must be finite and > 0, err finite')
+    return err, sigma
+
+
+def sigma_scale(err: np.ndarray, sigma: np.ndarray, coverage: float = GAUSS_1SIGMA) -> np.ndarray:
+    """Per-column factor k with mean(|err| <= k sigma) = coverage (the quantile of |err|/sigma).
+    err, sigma: [N, 6] in the same units; sigma > 0 and finite."""
+    err, sigma = checked_err_sigma(err, sigma)
     return np.quantile(np.abs(err) / sigma, coverage, axis=0)
 
 

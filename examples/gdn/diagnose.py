@@ -33,7 +33,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 
-from calibrate_sigma import COMP, GAUSS_1SIGMA  # noqa: E402
+from calibrate_sigma import COMP, GAUSS_1SIGMA, checked_err_sigma  # noqa: E402
 
 DEPTH_EDGES = (0.5, 1.5, 3.0, 6.0)  # mm: shallow contacts, where the sensor slips, come first
 
@@ -75,11 +75,7 @@ def fit_power_calibration(err: np.ndarray, sigma: np.ndarray, coverage: float = 
     sigma: the linear quantile regression log|err| ~ log a + b log sigma at that quantile
     (pinball loss). For a given b the best log a is the quantile of log|err| - b log sigma, so
     b is found on the grid `exponents`. Returns arrays a [k], b [k]."""
-    err, sigma = np.asarray(err, np.float64), np.asarray(sigma, np.float64)
-    if err.shape != sigma.shape or err.ndim != 2 or len(err) == 0:
-        raise ValueError(f'err {err.shape} and sigma {sigma.shape} must be the same [N, k], N > 0')
-    if not (np.all(np.isfinite(sigma)) and np.all(sigma > 0) and np.all(np.isfinite(err))):
-        raise ValueError('sigma must be finite and > 0, err finite')
+    err, sigma = checked_err_sigma(err, sigma)
     tau = coverage
     a, b = np.empty(err.shape[1]), np.empty(err.shape[1])
     tiny = np.finfo(np.float64).tiny

@@ -30,8 +30,7 @@
 
 #include "lieservo/estimation.hpp"
 #include "lieservo/groups.hpp"
-#include "lieservo/units.hpp"
-#include "replay.hpp"  // replayFilter, PaperTables
+#include "replay.hpp"  // replayFilter, toReportUnits, paperFilterRatio
 
 namespace {
 
@@ -39,8 +38,6 @@ using lieservo::ConcentratedGaussian;
 using lieservo::SE3d;
 using lieservo::Status;
 using Tangent = SE3d::Tangent;
-
-const double kRad2Deg = lieservo::rad2deg(1.0);
 
 struct Row {
   double z = 0.0;
@@ -86,19 +83,13 @@ std::vector<Row> readRows(const std::string& path) {
 using BinMae = std::array<std::array<double, 6>, kBins + 1>;
 using Vec6 = lieservo::replay::Vec6;
 
-Vec6 reportUnits(const Tangent& v) {  // mm, deg
-  Vec6 out{};
-  for (int j = 0; j < 6; ++j) out[static_cast<std::size_t>(j)] = v(j) * (j < 3 ? 1.0 : kRad2Deg);
-  return out;
-}
-
 // MAE of the estimates est[k] (mm, deg) against the rows' labels, by depth.
 BinMae binnedMae(const std::vector<Row>& rows, const std::vector<Vec6>& est) {
   BinMae mae{};
   std::array<int, kBins + 1> count{};
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const auto b = static_cast<std::size_t>(depthBin(rows[k].z));
-    const Vec6 label = reportUnits(rows[k].xi);
+    const Vec6 label = lieservo::replay::toReportUnits(rows[k].xi);
     for (std::size_t j = 0; j < 6; ++j) {
       const double e = std::fabs(est[k][j] - label[j]);
       mae[b][j] += e;
@@ -114,7 +105,7 @@ BinMae binnedMae(const std::vector<Row>& rows, const std::vector<Vec6>& est) {
 
 BinMae unfilteredMae(const std::vector<Row>& rows) {
   std::vector<Vec6> est(rows.size());
-  for (std::size_t k = 0; k < rows.size(); ++k) est[k] = reportUnits(rows[k].mu);
+  for (std::size_t k = 0; k < rows.size(); ++k) est[k] = lieservo::replay::toReportUnits(rows[k].mu);
   return binnedMae(rows, est);
 }
 
@@ -225,15 +216,15 @@ int main(int argc, char** argv) {
       for (std::size_t j = 0; j < 6; ++j) std::printf(" %7.3f", m[b][j] / base[b][j]);
       std::printf("\n");
     }
-    // Beside the paper's Table 2 ratios (its σψ = ∞ row as the base), where it has this σψ.
-    for (std::size_t p = 0; p < lieservo::replay::PaperTables::sigma.size(); ++p) {
-      if (std::fabs(lieservo::replay::PaperTables::sigma[p] - sigmas[si]) > 1e-12 * sigmas[si]) continue;
-      const auto& paper = lieservo::replay::PaperTables::filter_mae;
+    // Beside the paper's Table 2 ratios, where it has this σψ.
+    double paper = 0.0;
+    if (lieservo::replay::paperFilterRatio(sigmas[si], 0, paper)) {
       std::printf("  %-14s", "vs paper (%)");
       for (std::size_t j = 0; j < 6; ++j) {
-        const double d = (m[kBins][j] / base[kBins][j]) / (paper[p + 1][j] / paper[0][j]) - 1.0;
+        lieservo::replay::paperFilterRatio(sigmas[si], j, paper);
+        const double d = (m[kBins][j] / base[kBins][j]) / paper - 1.0;
         std::printf(" %+7.0f", 100.0 * d);
-        within += std::fabs(d) <= 0.15;
+        within += std::fabs(d) <= lieservo::replay::kTable2Tolerance;
         ++cells;
       }
       std::printf("\n");

@@ -38,12 +38,6 @@ constexpr double kDeg2Rad = kPi / 180.0;
 
 double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
 
-/// mm, rad -> mm, deg (components 4-6).
-Vec6 toReportUnits(const SE3d::Tangent& xi) {
-  Vec6 v{};
-  for (int j = 0; j < 6; ++j) v[static_cast<std::size_t>(j)] = j < 3 ? xi(j) : xi(j) * kRad2Deg;
-  return v;
-}
 Vec6 toReportUnits(const Vec6& xi) {
   Vec6 v = xi;
   for (std::size_t j = 3; j < 6; ++j) v[j] *= kRad2Deg;
@@ -212,6 +206,12 @@ std::vector<Sample> readTargets(const std::string& csv_path) {
   }
   if (out.empty()) throw std::runtime_error(csv_path + ": no samples");
   return out;
+}
+
+Vec6 toReportUnits(const SE3d::Tangent& xi) {
+  Vec6 v{};
+  for (int j = 0; j < 6; ++j) v[static_cast<std::size_t>(j)] = j < 3 ? xi(j) : xi(j) * kRad2Deg;
+  return v;
 }
 
 FilterRun replayFilter(const std::vector<Sample>& samples, const std::vector<ConcentratedGaussian<SE3d>>& obs,
@@ -516,6 +516,17 @@ const Vec6* paperFilterRow(double sigma) {
   return nullptr;
 }
 
+}  // namespace
+
+bool paperFilterRatio(double sigma_psi, std::size_t j, double& ratio) {
+  const Vec6* p = j < 6 ? paperFilterRow(sigma_psi) : nullptr;
+  if (p == nullptr) return false;
+  ratio = (*p)[j] / PaperTables::filter_mae[0][j];
+  return true;
+}
+
+namespace {
+
 /// The "MAE ratio to σψ = ∞, ours [paper] (diff)" table; returns (ratios within ±15 %, ratios compared).
 std::pair<int, int> ratioTable(std::ostream& md, const std::vector<FilterRow>& filter, const Vec6& mae_inf) {
   md << "| MAE ratio to σψ = ∞ |";
@@ -528,14 +539,13 @@ std::pair<int, int> ratioTable(std::ostream& md, const std::vector<FilterRow>& f
     md << "| " << kComp[j] << " |";
     for (const auto& r : filter) {
       const double ours = r.mae[j] / mae_inf[j];
-      const Vec6* p = paperFilterRow(r.sigma_psi);
       md << " " << f3(ours, 2);
-      if (p != nullptr) {
-        const double paper = (*p)[j] / PaperTables::filter_mae[0][j];
+      double paper = 0.0;
+      if (paperFilterRatio(r.sigma_psi, j, paper)) {
         const double rel = ours / paper - 1.0;
         md << " [" << f3(paper, 2) << "] (" << (rel >= 0 ? "+" : "") << f3(100.0 * rel, 0) << " %)";
         ++total;
-        if (std::fabs(rel) <= 0.15) ++within;
+        if (std::fabs(rel) <= kTable2Tolerance) ++within;
       }
       md << " |";
     }

@@ -108,6 +108,15 @@ struct FilterRun {
 FilterRun replayFilter(const std::vector<Sample>& samples, const std::vector<ConcentratedGaussian<SE3d>>& obs,
                        double sigma_psi, std::uint64_t seed, const FusionOptions<double>& fusion = {});
 
+/// mm, rad -> mm, deg (components 4-6).
+Vec6 toReportUnits(const SE3d::Tangent& xi);
+
+/// The paper's Table 2 MAE ratio for component j (0..5): its σψ = sigma_psi row over its own
+/// σψ = ∞ row. false when the paper has no such column.
+bool paperFilterRatio(double sigma_psi, std::size_t j, double& ratio);
+/// The Table 2 target: |ours / paper − 1| ≤ this, per ratio.
+inline constexpr double kTable2Tolerance = 0.15;
+
 // The paper's numbers (means over 10 models, test set), for the report.
 struct PaperTables {
   static constexpr Vec6 cnn_mae{0.448, 0.451, 0.164, 0.88, 1.04, 1.44};
