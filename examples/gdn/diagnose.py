@@ -4,6 +4,8 @@
 
     /usr/bin/python3 examples/gdn/diagnose.py [--holdout-run DIR] [--train-every 3]
 
+0. The label distributions of the two splits (depth bins, mean shear, twist and tilt): the
+   validation session samples the same contacts as the training session.
 1. MAE by contact depth z on training images the shipped models trained on and on the
    validation set (GDN and CNN): is the shear error a failure to fit or to generalise?
 2. Coverage (fraction of |error| <= sigma) of the GDN's sigma by depth, with the network's
@@ -17,6 +19,8 @@
    sigma' = a sigma^b per component (network units mm, deg), fitted on the held-out training
    rows by quantile regression of log|error| on log sigma at 68.27 %, and its coverage by depth
    on the validation set. A constant factor is the special case b = 1.
+5. With --holdout-run: that run's MAE by depth on its held-out training rows and on the
+   validation set: at which depths the validation session is harder.
 
 Units: mm and degrees (the networks' output units); sigma_psi in mm for rho, degrees for phi,
 as in the paper's Table 2.
@@ -45,6 +49,18 @@ def bin_index(z: np.ndarray, edges=DEPTH_EDGES) -> np.ndarray:
     if np.any(z < edges[0]) or np.any(z > edges[-1]) or not np.all(np.isfinite(z)):
         raise ValueError(f'depths outside [{edges[0]}, {edges[-1]}]')
     return np.minimum(np.searchsorted(edges, z, side='right') - 1, len(edges) - 2)
+
+
+def label_summary(euler6: np.ndarray, edges=DEPTH_EDGES) -> np.ndarray:
+    """What a split samples, from its labels (x, y, z, alpha, beta, gamma) in mm and deg: the
+    fraction of contacts in each depth bin, then the mean shear |(x, y)| (mm), twist |gamma| and
+    tilt |(alpha, beta)| (deg). Equal summaries rule out a sampling difference between sessions."""
+    e = np.asarray(euler6, np.float64)
+    if e.ndim != 2 or e.shape[1] != 6 or len(e) == 0:
+        raise ValueError('euler6 must be a non-empty [N, 6] array')
+    frac = np.bincount(bin_index(e[:, 2], edges), minlength=len(edges) - 1) / len(e)
+    return np.concatenate([frac, [np.hypot(e[:, 0], e[:, 1]).mean(), np.abs(e[:, 5]).mean(),
+                                  np.hypot(e[:, 3], e[:, 4]).mean()]])
 
 
 def mae_by_bin(err: np.ndarray, z: np.ndarray, edges=DEPTH_EDGES):
@@ -152,7 +168,12 @@ def main(argv=None) -> int:
 
     nb = len(DEPTH_EDGES) - 1
     bins = [f'z {DEPTH_EDGES[i]:g}-{DEPTH_EDGES[i + 1]:g} mm' for i in range(nb)]
-    print(_row('', COMP, '{:>7}'))
+    print('0. Label distributions: fraction per depth bin; mean |shear| (mm), |twist|, |tilt| (deg)')
+    print(_row('', [f'{DEPTH_EDGES[i]:g}-{DEPTH_EDGES[i + 1]:g}' for i in range(nb)]
+               + ['shear', 'twist', 'tilt'], '{:>7}'))
+    for label, split in (('train', tr), ('val', va)):
+        print(_row(f'{label} (n {len(split)})', label_summary(split.euler6)))
+    print('\n' + _row('', COMP, '{:>7}'))
     splits = [('train (trained on)', tr, np.arange(0, len(tr), args.train_every)),
               ('val', va, np.arange(len(va)))]
     gdn_val = None
@@ -218,6 +239,18 @@ def main(argv=None) -> int:
         print(_row('coverage on val: all', np.mean(np.abs(err) <= s, axis=0)))
         for i in range(nb):
             print(_row(f'  {bins[i]}', cov[i]))
+
+    if args.holdout_run:
+        print(f'\n5. Session gap by depth: MAE of {args.holdout_run} (last epoch) on its held-out training '
+              f'rows (same session as its training images) and on val')
+        xv = va.images
+        out_v = np.concatenate([torch_forward(model, xv[i:i + 100]) for i in range(0, len(xv), 100)]).astype(np.float64)
+        for label, split, idx, o in (('held out', tr, held, out), ('val', va, np.arange(len(va)), out_v)):
+            e = o[:, :6] - labels_of(split, idx)
+            counts, mae = mae_by_bin(e, split.euler6[idx, 2])
+            print(_row(f'{label} all (n {len(idx)})', np.abs(e).mean(0)))
+            for i in range(nb):
+                print(_row(f'  {bins[i]} (n {counts[i]})', mae[i]))
 
     if args.dump:
         s = dict(cal)[{'network': 'network sigma', 'card': 'card factors', 'power': 'power law'}[args.dump_sigma]]

@@ -382,6 +382,23 @@ def diagnose_bins_and_scalar_filter_model():
 
 
 @test
+def diagnose_label_summary():
+    from diagnose import label_summary
+    e = np.array([[3.0, 4.0, 1.0, 3.0, 4.0, -2.0],     # shear 5 mm, tilt 5 deg, twist 2 deg
+                  [0.0, 0.0, 2.0, 0.0, 0.0, 4.0],
+                  [0.0, 1.0, 5.0, 0.0, 1.0, 0.0],
+                  [0.0, 0.0, 6.0, 0.0, 0.0, 0.0]])
+    s = label_summary(e)
+    assert np.allclose(s, [0.25, 0.25, 0.5, 1.5, 1.5, 1.5]), s
+    for bad in (np.zeros((0, 6)), np.zeros((3, 5)), e[:, None]):
+        try:
+            label_summary(bad)
+            assert False, 'accepted shape %r' % (bad.shape,)
+        except ValueError:
+            pass
+
+
+@test
 def onnx_trained_gdn_reference_outputs():
     import cv2
     onnx_path = os.path.join(HERE, 'models', 'gdn.onnx')
