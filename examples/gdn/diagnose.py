@@ -163,14 +163,25 @@ def main(argv=None) -> int:
             outs.append(net.forward())
         return np.concatenate(outs).astype(np.float64)
 
+    def torch_outputs(model, x):
+        from export_onnx import torch_forward
+        return np.concatenate([torch_forward(model, x[i:i + 100]) for i in range(0, len(x), 100)]).astype(np.float64)
+
     def labels_of(split, idx):
         return L.to_train_units(L.xi_from_euler6(split.euler6))[idx]   # mm, deg
 
     nb = len(DEPTH_EDGES) - 1
-    bins = [f'z {DEPTH_EDGES[i]:g}-{DEPTH_EDGES[i + 1]:g} mm' for i in range(nb)]
+    ranges = [f'{DEPTH_EDGES[i]:g}-{DEPTH_EDGES[i + 1]:g}' for i in range(nb)]
+    bins = [f'z {r} mm' for r in ranges]
+
+    def print_mae_by_depth(label, err, z):
+        counts, mae = mae_by_bin(err, z)
+        print(_row(f'{label} all (n {len(z)})', np.abs(err).mean(0)))
+        for i in range(nb):
+            print(_row(f'  {bins[i]} (n {counts[i]})', mae[i]))
+
     print('0. Label distributions: fraction per depth bin; mean |shear| (mm), |twist|, |tilt| (deg)')
-    print(_row('', [f'{DEPTH_EDGES[i]:g}-{DEPTH_EDGES[i + 1]:g}' for i in range(nb)]
-               + ['shear', 'twist', 'tilt'], '{:>7}'))
+    print(_row('', ranges + ['shear', 'twist', 'tilt'], '{:>7}'))
     for label, split in (('train', tr), ('val', va)):
         print(_row(f'{label} (n {len(split)})', label_summary(split.euler6)))
     print('\n' + _row('', COMP, '{:>7}'))
@@ -186,10 +197,7 @@ def main(argv=None) -> int:
             out = onnx_outputs(f'{model}.onnx', split, idx)
             err = out[:, :6] - labels_of(split, idx)
             z = split.euler6[idx, 2]
-            counts, mae = mae_by_bin(err, z)
-            print(_row(f'{model} {label} all (n {len(idx)})', np.abs(err).mean(0)))
-            for i in range(nb):
-                print(_row(f'  {bins[i]} (n {counts[i]})', mae[i]))
+            print_mae_by_depth(f'{model} {label}', err, z)
             if model == 'gdn' and split is va:
                 gdn_val = (err, 1.0 / out[:, 6:], z)
     if gdn_val is None:
@@ -216,12 +224,11 @@ def main(argv=None) -> int:
 
     if args.holdout_run:
         import torch
-        from export_onnx import load_ckpt, torch_forward
+        from export_onnx import load_ckpt
         torch.set_num_threads(2)
         held = np.loadtxt(os.path.join(args.holdout_run, 'holdout.txt'), dtype=np.int64, ndmin=1)
         model, _ = load_ckpt(os.path.join(args.holdout_run, 'gdn_last.pt'))
-        x = tr.images[held]
-        out = np.concatenate([torch_forward(model, x[i:i + 100]) for i in range(0, len(x), 100)]).astype(np.float64)
+        out = torch_outputs(model, tr.images[held])
         a, bexp = fit_power_calibration(out[:, :6] - labels_of(tr, held), 1.0 / out[:, 6:])
         cal.append(('power law', a * sig ** bexp))
     for label, s in cal:
@@ -243,14 +250,9 @@ def main(argv=None) -> int:
     if args.holdout_run:
         print(f'\n5. Session gap by depth: MAE of {args.holdout_run} (last epoch) on its held-out training '
               f'rows (same session as its training images) and on val')
-        xv = va.images
-        out_v = np.concatenate([torch_forward(model, xv[i:i + 100]) for i in range(0, len(xv), 100)]).astype(np.float64)
+        out_v = torch_outputs(model, va.images)
         for label, split, idx, o in (('held out', tr, held, out), ('val', va, np.arange(len(va)), out_v)):
-            e = o[:, :6] - labels_of(split, idx)
-            counts, mae = mae_by_bin(e, split.euler6[idx, 2])
-            print(_row(f'{label} all (n {len(idx)})', np.abs(e).mean(0)))
-            for i in range(nb):
-                print(_row(f'  {bins[i]} (n {counts[i]})', mae[i]))
+            print_mae_by_depth(label, o[:, :6] - labels_of(split, idx), split.euler6[idx, 2])
 
     if args.dump:
         s = dict(cal)[{'network': 'network sigma', 'card': 'card factors', 'power': 'power law'}[args.dump_sigma]]
