@@ -289,7 +289,7 @@ int dumpPolicy(std::FILE* f, const std::vector<Case>& cases) {
       if (!makeFactors<double>(cases[k], a) || !makeFactors<double>(cases[k + 1], b)) return 1;
       const G S0 = G::exp(randomTangent(rng, 5.0, 0, 10 * kDeg));
       const G S1 = G::exp(randomTangent(rng, 0.5, 0, 1 * kDeg)) * S0;
-      if (filter.reset(a[0], S0) != Status::ok || filter.step(S1, b[1]) != Status::ok) return 1;
+      if (filter.step(S0, a[0]) != Status::ok || filter.step(S1, b[1]) != Status::ok) return 1;
       std::fprintf(f, "filter,%d,%d", Policy::order, iters);
       putMatrix(f, S0.matrix());
       putMatrix(f, a[0].mean.matrix());

@@ -268,7 +268,8 @@ void tactileLoop(const Args& a, FrankaAdapter& robot, TactileFrontEnd& sensor, s
       // Approach along the sensor z (out of the tip, into the surface/object) until contact.
       if (sample.in_contact) {
         touched = true;
-        filter.reset(sample.observation, X_ws);
+        filter.reset();
+        if (filter.step(X_ws, sample.observation) != Status::ok) continue;  // first step initialises
         std::puts("contact: servoing");
       } else {
         if ((X_ws.translation() - approach_start).norm() > a.approach_max_mm) {
@@ -285,7 +286,7 @@ void tactileLoop(const Args& a, FrankaAdapter& robot, TactileFrontEnd& sensor, s
     const SE3d& X_sf = filter.filtered().mean;
     Status s;
     if (push) {
-      s = pusher.step(X_sf, X_ws, dt, u);
+      s = pusher.step(X_ws, X_sf, dt, u);
       if (s == Status::ok && pusher.terminated()) {
         result.outcome = "target reached";
         return;

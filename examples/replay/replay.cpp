@@ -244,7 +244,7 @@ FilterRun replayFilter(const std::vector<Sample>& samples, const std::vector<Con
   for (std::size_t k = 0; k < n; ++k) {
     Status s = Status::ok;
     if (k == 0) {
-      s = filter.reset(obs[0], SE3d());
+      s = filter.step(SE3d(), obs[0]);  // the first step initialises
     } else {
       // T_k = exp(ψ_k^) X_k X_{k-1}^{-1}  (eqn:se3_filter_exp_state_trans_model)
       SE3d::Tangent psi;
@@ -262,8 +262,8 @@ FilterRun replayFilter(const std::vector<Sample>& samples, const std::vector<Con
       if (row.failures <= 3)
         run.notes.push_back("sigma_psi " + std::to_string(sig) + ": step " + std::to_string(k) + " (" +
                             samples[k].image + "): " + describe(s) + "; filter re-initialised");
-      filter.clear();
-      filter.reset(obs[k], SE3d());
+      filter.reset();
+      (void)filter.step(SE3d(), obs[k]);
     }
     const ConcentratedGaussian<SE3d>& f = filter.filtered();
     SE3d::Tangent mu;

@@ -112,11 +112,12 @@ int main() {
   //     X̄_0^obs = exp(μ_0^),   Σ_0^obs = J(μ_0) diag(σ_0²) J(μ_0)ᵀ,
   // because the library represents uncertainty as a LEFT perturbation, X = exp(ε^) X̄
   // (eqn:se3_random_variable_2), while the network's σ is in exponential coordinates
-  // (eqn:glob_tangent_space_pdf, inverted). Then fil_0 = bel_0 = obs_0 (alg:se3_bayes_filter).
+  // (eqn:glob_tangent_space_pdf, inverted). The filter's first step is the initialisation,
+  // fil_0 = bel_0 = obs_0 (alg:se3_bayes_filter); every later step predicts and corrects.
   Tangent mu, sigma;
   gdnEstimate(X_true, mu, sigma);
   Gaussian obs;
-  if (fromTangentGaussian(mu, sigma, obs) != Status::ok || filter.reset(obs, X_sens) != Status::ok) {
+  if (fromTangentGaussian(mu, sigma, obs) != Status::ok || filter.step(X_sens, obs) != Status::ok) {
     std::printf("initialisation failed\n");
     return 1;
   }

@@ -70,7 +70,7 @@ bool measure(const ConcentratedGaussian<G>& a, const ConcentratedGaussian<G>& b,
              const FusionResult<G>& ref, double& mean_err, double& cov_err) {
   FusionResult<G> r;
   if (!fuseWith<Policy>(a, b, iterations, 0.0, r)) return false;
-  const Tangent d = (r.fused.mean * ref.fused.mean.inverse()).log();
+  const Tangent d = lminus(r.fused.mean, ref.fused.mean);
   mean_err = std::max(mean_err, std::sqrt(d.dot(ref.fused.covariance.ldlt().solve(d))));
   cov_err = std::max(cov_err, (r.fused.covariance - ref.fused.covariance).norm() /
                                   ref.fused.covariance.norm());

@@ -1,6 +1,8 @@
-// lieservo/groups.hpp — all Lie groups of the core: SO(2), SE(2), SO(3), SE(3).
+// lieservo/groups.hpp — all Lie groups of the core: SO(2), SE(2), SO(3), SE(3), and the
+// left-perturbation operators ⊕/⊖ (lplus, lminus) shared by all of them.
 #pragma once
 
+#include "groups/perturbation.hpp"
 #include "groups/se2.hpp"
 #include "groups/se3.hpp"
 #include "groups/so2.hpp"

@@ -89,7 +89,7 @@ LoopResult runPush(const PushingController<double>::Options& o, double rate, dou
   opts.target = G(SO3<double>(), Eigen::Vector3d(0, 0, 1e5));  // far ahead: bearing ≈ 0
   PushingController<double> push(opts);
   return run(o.servo.pid.kp.diagonal(), o.servo.reference, Plant::pushed_face, rate, duration,
-             [&](const G& X_sf, const G& X_ws, double dt, V6& u) { return push.step(X_sf, X_ws, dt, u); });
+             [&](const G& X_sf, const G& X_ws, double dt, V6& u) { return push.step(X_ws, X_sf, dt, u); });
 }
 
 struct Row {

@@ -74,12 +74,10 @@ TEST_CASE("dual arm: equals two hand-wired filter + controller pairs", "[control
     Dual::ArmOutput outL, outF;
     REQUIRE(dual.step(inL, inF, dt, outL, outF) == Status::ok);
     // by hand
-    REQUIRE((k == 0 ? fL.reset(inL.observation, inL.sensor_pose) : fL.step(inL.sensor_pose, inL.observation)) ==
-            Status::ok);
-    REQUIRE((k == 0 ? fF.reset(inF.observation, inF.sensor_pose) : fF.step(inF.sensor_pose, inF.observation)) ==
-            Status::ok);
+    REQUIRE(fL.step(inL.sensor_pose, inL.observation) == Status::ok);  // k = 0: initialisation
+    REQUIRE(fF.step(inF.sensor_pose, inF.observation) == Status::ok);
     V6 uL = V6::Zero(), uF = V6::Zero();
-    REQUIRE(leader.step(fL.filtered().mean, inL.sensor_pose, dt, uL) == Status::ok);
+    REQUIRE(leader.step(inL.sensor_pose, fL.filtered().mean, dt, uL) == Status::ok);
     REQUIRE(follower.step(fF.filtered().mean, dt, uF) == Status::ok);
     CHECK(outL.velocity == uL);
     CHECK(outF.velocity == uF);
@@ -164,6 +162,22 @@ TEST_CASE("dual arm: failures leave filters, controllers and outputs unchanged",
   CHECK(dual.followerFilter().filtered().mean.isApprox(filF0, 0));
   CHECK(dual.leader().servo().pid().integral() == iL0);
   CHECK(dual.follower().pid().integral() == iF0);
+  // a non-orthonormal sensor pose is refused the same way
+  Dual::ArmInput skewedL = inL;
+  G::Matrix M = inL.sensor_pose.matrix();
+  M.topLeftCorner<3, 3>() *= 1.01;
+  skewedL.sensor_pose = G::fromMatrixUnchecked(M);
+  CHECK(dual.step(skewedL, inF, 0.05, outL, outF) == Status::not_orthonormal);
+  CHECK(outL.velocity == uL0);
+  CHECK(dual.leaderFilter().filtered().mean.isApprox(filL0, 0));
+  CHECK(dual.setReferences(skewedL.sensor_pose, o.follower.reference) == Status::not_orthonormal);
+  CHECK(dual.leader().options().servo.reference.matrix() == o.leader.servo.reference.matrix());
   // and the next good step works
   CHECK(dual.step(inL, inF, 0.05, outL, outF) == Status::ok);
+  // reset() clears both filters: the next step initialises them again
+  dual.reset();
+  CHECK(!dual.leaderFilter().initialised());
+  CHECK(!dual.followerFilter().initialised());
+  CHECK(dual.step(inL, inF, 0.05, outL, outF) == Status::ok);
+  CHECK(dual.leaderFilter().diagnostics().corrections == 1);
 }

@@ -87,7 +87,7 @@ TEST_CASE("no allocation per step: pushing and dual-arm pushing with filters", "
       V6 u = V6::Zero();
       // pushing: alternate far (alignment active) and near (cut-off) geometries
       const G X_ws = G(SO3<double>(), Eigen::Vector3d(0, 0, (k % 2) ? 0.0 : 550.0));
-      failures += push.step(G::exp(n) * po.servo.reference.inverse(), X_ws, 0.02, u) != Status::ok;
+      failures += push.step(X_ws, G::exp(n) * po.servo.reference.inverse(), 0.02, u) != Status::ok;
       DualArmPushing<double>::ArmInput inL{X_wsL, {G::exp(n) * X_wsL.inverse() * X_wo, cov}};
       DualArmPushing<double>::ArmInput inF{X_wsF, {G::exp(-n) * X_wsF.inverse() * X_wo * X_ofF, cov}};
       DualArmPushing<double>::ArmOutput outL, outF;
@@ -102,7 +102,7 @@ TEST_CASE("no allocation per step: pushing and dual-arm pushing with filters", "
     failures += push.configure(near) != Status::ok;
     failures += push.setTarget(near.target) != Status::ok;
     V6 u = V6::Zero();
-    failures += push.step(po.servo.reference.inverse(), G::identity(), 0.02, u) != Status::ok;
+    failures += push.step(G::identity(), po.servo.reference.inverse(), 0.02, u) != Status::ok;
     failures += !push.terminated();
     allocations = w.count();
   }

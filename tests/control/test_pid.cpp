@@ -332,3 +332,27 @@ TEST_CASE("detail::allFinite over one and several objects (the real-time paths' 
     CHECK_FALSE(lieservo::detail::allFinite(mb));
   }
 }
+
+// A clip range must hold a finite value: [+inf, +inf] (or [−inf, −inf]) passes min ≤ max but
+// clips every output to infinity, so every update would fail.
+TEST_CASE("pid: a clip range at +inf or -inf only is refused", "[control][pid]") {
+  for (const double v : {kInf, -kInf}) {
+    Pid2::Options o = Pid2::Options::diagonal(V2(1, 1), V2::Zero(), V2::Zero());
+    o.clipOutput(v, v);
+    CHECK(Pid2::validate(o) == Status::invalid_argument);
+    o = Pid2::Options::diagonal(V2(1, 1), V2::Zero(), V2::Zero());
+    o.integral_min[1] = v;
+    o.integral_max[1] = v;
+    CHECK(Pid2::validate(o) == Status::invalid_argument);
+    Pid2 pid(o);
+    V2 u(5, 5);
+    CHECK(pid.update(V2(1, 1), V2::Zero(), 0.1, u) == Status::invalid_argument);
+    CHECK(u == V2(5, 5));
+  }
+  // Half-open ranges stay valid.
+  Pid2::Options o = Pid2::Options::diagonal(V2(1, 1), V2::Zero(), V2::Zero());
+  o.clipOutput(-kInf, 3.0);
+  CHECK(Pid2::validate(o) == Status::ok);
+  o.clipOutput(-3.0, kInf);
+  CHECK(Pid2::validate(o) == Status::ok);
+}

@@ -42,7 +42,7 @@ TEST_CASE("pushing: bearing sign and distance with the sensor at the reference",
   V6 u = V6::Zero();
   // target ahead and to +y of the sensor
   REQUIRE(push.setTarget(at(0, 100, 300)) == Status::ok);
-  REQUIRE(push.step(X_sf, G::identity(), 0.05, u) == Status::ok);
+  REQUIRE(push.step(G::identity(), X_sf, 0.05, u) == Status::ok);
   const double theta = std::atan2(100.0, 300.0);
   CHECK(push.bearing() == Approx(theta));
   CHECK(push.distance() == Approx(std::hypot(100.0, 300.0)));
@@ -54,7 +54,7 @@ TEST_CASE("pushing: bearing sign and distance with the sensor at the reference",
   // mirrored target → mirrored command
   push.reset();
   REQUIRE(push.setTarget(at(0, -100, 300)) == Status::ok);
-  REQUIRE(push.step(X_sf, G::identity(), 0.05, u) == Status::ok);
+  REQUIRE(push.step(G::identity(), X_sf, 0.05, u) == Status::ok);
   CHECK(push.bearing() == Approx(-theta));
   CHECK(u[1] == Approx(2.0 * theta));
 }
@@ -73,7 +73,7 @@ TEST_CASE("pushing: the paper's start geometry with the Table 8 preset", "[contr
   Push push(o);
   const G X_sf = o.servo.reference.inverse();
   V6 u = V6::Zero();
-  REQUIRE(push.step(X_sf, X_ws, 0.05, u) == Status::ok);
+  REQUIRE(push.step(X_ws, X_sf, 0.05, u) == Status::ok);
   CHECK(rad2deg(push.bearing()) == Approx(rad2deg(std::atan2(275.0, 250.0))));  // 47.7°
   CHECK(push.distance() == Approx(std::hypot(275.0, 250.0)));                    // 371.7 mm
   CHECK(push.alignmentActive());
@@ -87,17 +87,17 @@ TEST_CASE("pushing: alignment is zeroed inside rho*", "[control][pushing]") {
   const G X_sf = push.options().servo.reference.inverse();
   V6 u = V6::Zero();
   REQUIRE(push.setTarget(at(0, 50, 100)) == Status::ok);  // r = 111.8 < 120
-  REQUIRE(push.step(X_sf, G::identity(), 0.05, u) == Status::ok);
+  REQUIRE(push.step(G::identity(), X_sf, 0.05, u) == Status::ok);
   CHECK_FALSE(push.alignmentActive());
   CHECK(push.alignment().steps() == 0);  // PID 2 is held, not stepped
   CHECK(u.isApprox(v6(0, 0, 10, 0, 0, 0)));
   CHECK(push.alignmentVelocity().isZero());
 
   REQUIRE(push.setTarget(at(0, 1, 119)) == Status::ok);
-  REQUIRE(push.step(X_sf, G::identity(), 0.05, u) == Status::ok);
+  REQUIRE(push.step(G::identity(), X_sf, 0.05, u) == Status::ok);
   CHECK_FALSE(push.alignmentActive());
   REQUIRE(push.setTarget(at(0, 1, 121)) == Status::ok);
-  REQUIRE(push.step(X_sf, G::identity(), 0.05, u) == Status::ok);
+  REQUIRE(push.step(G::identity(), X_sf, 0.05, u) == Status::ok);
   CHECK(push.alignmentActive());
   CHECK(u[1] == Approx(-2.0 * std::atan2(1.0, 121.0)));
 }
@@ -112,7 +112,7 @@ TEST_CASE("pushing: target is taken into the reference frame and the alignment m
   const G X_wt = X_ws * at(5, 150, 400);
   REQUIRE(push.setTarget(X_wt) == Status::ok);
   V6 u = V6::Zero();
-  REQUIRE(push.step(X_sf, X_ws, 0.05, u) == Status::ok);
+  REQUIRE(push.step(X_ws, X_sf, 0.05, u) == Status::ok);
   const G X_srt = X_ss.inverse() * X_ws.inverse() * X_wt;  // eqn:transformed_target_pose
   CHECK(push.targetInReference().isApprox(X_srt, 1e-9));
   const double y = X_srt.translation()[1], z = X_srt.translation()[2];
@@ -130,16 +130,16 @@ TEST_CASE("pushing: termination within the tip radius (latched)", "[control][pus
     Push push(simple(1.0));  // default: distance in the sensor's y–z plane
     const G X_sf = push.options().servo.reference.inverse();
     REQUIRE(push.setTarget(at(30, 5, 10)) == Status::ok);  // yz distance 11.2 < 20, 3-D 32
-    REQUIRE(push.step(X_sf, G::identity(), 0.05, u) == Status::ok);
+    REQUIRE(push.step(G::identity(), X_sf, 0.05, u) == Status::ok);
     CHECK(push.terminated());
     CHECK(u.isZero());
     CHECK(push.terminationDistance() == Approx(std::hypot(5.0, 10.0)));
     // latched: moving away does not restart the push
-    REQUIRE(push.step(X_sf, at(0, 0, -500), 0.05, u) == Status::ok);
+    REQUIRE(push.step(at(0, 0, -500), X_sf, 0.05, u) == Status::ok);
     CHECK(push.terminated());
     CHECK(u.isZero());
     REQUIRE(push.setTarget(at(0, 0, 400)) == Status::ok);  // a new target clears the latch
-    REQUIRE(push.step(X_sf, G::identity(), 0.05, u) == Status::ok);
+    REQUIRE(push.step(G::identity(), X_sf, 0.05, u) == Status::ok);
     CHECK_FALSE(push.terminated());
     CHECK(u[2] == Approx(10.0));
   }
@@ -149,11 +149,11 @@ TEST_CASE("pushing: termination within the tip radius (latched)", "[control][pus
     Push push(o);
     const G X_sf = push.options().servo.reference.inverse();
     REQUIRE(push.setTarget(at(30, 5, 10)) == Status::ok);
-    REQUIRE(push.step(X_sf, G::identity(), 0.05, u) == Status::ok);
+    REQUIRE(push.step(G::identity(), X_sf, 0.05, u) == Status::ok);
     CHECK_FALSE(push.terminated());
     CHECK(push.terminationDistance() == Approx(std::sqrt(30.0 * 30 + 5 * 5 + 10 * 10)));
     REQUIRE(push.setTarget(at(3, 5, 10)) == Status::ok);
-    REQUIRE(push.step(X_sf, G::identity(), 0.05, u) == Status::ok);
+    REQUIRE(push.step(G::identity(), X_sf, 0.05, u) == Status::ok);
     CHECK(push.terminated());
   }
 }
@@ -164,21 +164,46 @@ TEST_CASE("pushing: invalid input leaves everything unchanged", "[control][pushi
   Push push(o);
   const G X_sf = G::fromEulerXYZ6Degrees(v6(1, 0, 0, 3, 0, 0)).inverse();
   V6 u = V6::Zero();
-  REQUIRE(push.step(X_sf, G::identity(), 0.05, u) == Status::ok);
+  REQUIRE(push.step(G::identity(), X_sf, 0.05, u) == Status::ok);
   const V6 u0 = u;
   const double b0 = push.bearing(), i0 = push.alignment().integral();
   const V6 si0 = push.servo().pid().integral();
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  CHECK(push.step(X_sf, G::identity(), 0.0, u) == Status::invalid_time_step);
-  CHECK(push.step(X_sf, G::identity(), nan, u) == Status::invalid_time_step);
+  CHECK(push.step(G::identity(), X_sf, 0.0, u) == Status::invalid_time_step);
+  CHECK(push.step(G::identity(), X_sf, nan, u) == Status::invalid_time_step);
   G bad = G::identity();
   bad.translation()[0] = nan;
-  CHECK(push.step(bad, G::identity(), 0.05, u) == Status::non_finite_input);
-  CHECK(push.step(X_sf, bad, 0.05, u) == Status::non_finite_input);
+  CHECK(push.step(G::identity(), bad, 0.05, u) == Status::non_finite_input);
+  CHECK(push.step(bad, X_sf, 0.05, u) == Status::non_finite_input);
+  // A rotation block scaled by 1.01: finite, but not a rotation.
+  G::Matrix M = X_sf.matrix();
+  M.topLeftCorner<3, 3>() *= 1.01;
+  const G skewed = G::fromMatrixUnchecked(M);
+  CHECK(push.step(G::identity(), skewed, 0.05, u) == Status::not_orthonormal);
+  CHECK(push.step(skewed, X_sf, 0.05, u) == Status::not_orthonormal);
   CHECK(u == u0);
   CHECK(push.bearing() == b0);
   CHECK(push.alignment().integral() == i0);
   CHECK(push.servo().pid().integral() == si0);
+}
+
+TEST_CASE("pushing: a non-orthonormal target or reference is refused and changes nothing",
+          "[control][pushing]") {
+  auto o = pushingPreset<double>(PushingConfiguration::single_arm);
+  o.target = at(0, 200, 400);
+  Push push(o);
+  G::Matrix M = at(0, 100, 300).matrix();
+  M(0, 1) += 0.02;  // shear the rotation block
+  const G skewed = G::fromMatrixUnchecked(M);
+  CHECK(push.setTarget(skewed) == Status::not_orthonormal);
+  CHECK(push.options().target.matrix() == o.target.matrix());
+  CHECK(push.setReference(skewed) == Status::not_orthonormal);
+  CHECK(push.options().servo.reference.matrix() == o.servo.reference.matrix());
+  auto bad = o;
+  bad.target = skewed;
+  CHECK(Push::validate(bad) == Status::invalid_argument);
+  CHECK(push.configure(bad) == Status::invalid_argument);
+  CHECK(push.options().target.matrix() == o.target.matrix());
 }
 
 TEST_CASE("pushing: wrapAngle", "[control][pushing]") {

@@ -164,3 +164,38 @@ TEST_CASE("servo: generic over the group (SE2, SO3, SO2)", "[control][servo]") {
     CHECK(u[0] == Approx(0.8));
   }
 }
+
+// Poses with a non-orthonormal rotation block must be refused wherever a controller takes
+// a pose, not only NaN/inf: the rotation would otherwise enter log() as if it were valid.
+TEST_CASE("servo: non-orthonormal rotations are refused and change nothing", "[control][servo]") {
+  auto scaled = [](const SE3d_& X, double f) {
+    SE3d_::Matrix M = X.matrix();
+    M.topLeftCorner<3, 3>() *= f;
+    return SE3d_::fromMatrixUnchecked(M);
+  };
+  const SE3d_ good = SE3d_::exp(v6(0.1, -0.2, 3, 0.02, -0.01, 0.03));
+  const SE3d_ bad = scaled(good, 1.01);
+  Servo::Options o;
+  o.pid = Servo::Pid::Options::diagonal(V6::Constant(0.5), V6::Zero(), V6::Zero());
+  o.reference = SE3d_::exp(v6(0, 0, 3, 0, 0, 0));
+  Servo servo(o);
+  V6 u = V6::Zero();
+  REQUIRE(servo.step(good, 0.05, u) == Status::ok);
+  const V6 u_before = u;
+  const V6 e_before = servo.tangentError();
+
+  CHECK(servo.step(bad, 0.05, u) == Status::not_orthonormal);
+  CHECK(u == u_before);
+  CHECK(servo.tangentError() == e_before);
+
+  const SE3d_ ref_before = servo.options().reference;
+  CHECK(servo.setReference(bad) == Status::not_orthonormal);
+  CHECK(servo.options().reference.matrix() == ref_before.matrix());
+
+  o.reference = bad;
+  CHECK(Servo::validate(o) == Status::invalid_argument);
+  CHECK(servo.configure(o) == Status::invalid_argument);
+  CHECK(servo.options().reference.matrix() == ref_before.matrix());
+  CHECK(Servo(o).step(good, 0.05, u) == Status::invalid_argument);
+  CHECK(u == u_before);
+}

@@ -39,7 +39,7 @@ Eigen::Matrix<double, N, N> randomOrthogonal(std::mt19937_64& rng) {
 template <class G>
 typename G::Tangent realisticSigma(std::mt19937_64& rng, double t_lo = 0.1, double t_hi = 1.0,
                                    double r_lo_deg = 0.5, double r_hi_deg = 2.0) {
-  constexpr int R = est_detail::rotationDoF<G>();
+  constexpr int R = detail::rotationDoF<G>();
   typename G::Tangent s;
   for (int i = 0; i < G::DoF; ++i)
     s[i] = typename G::Scalar(i < G::DoF - R ? uniform(rng, t_lo, t_hi)
@@ -76,12 +76,6 @@ ConcentratedGaussian<G> randomFactor(std::mt19937_64& rng, const G& centre,
   const ConcentratedGaussian<G> around(centre, f.covariance);
   f.mean = sample(around, rng);
   return f;
-}
-
-/// Tangent distance of two group elements in the left perturbation: ln(A B⁻¹).
-template <class G>
-typename G::Tangent leftDifference(const G& A, const G& B) {
-  return (A * B.inverse()).log();
 }
 
 /// Mahalanobis length of a tangent vector under covariance S.

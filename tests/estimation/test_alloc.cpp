@@ -47,8 +47,8 @@ void runAllocationFreeSteps(int steps) {
       lieservo::test::AllocationCounter counter;
       CG obs;
       (void)fromTangentGaussian(mus[0], sigmas[0], obs);
-      (void)filter.reset(obs, poses[0]);
-      (void)filter_cf.reset(obs, poses[0]);
+      (void)filter.step(poses[0], obs);  // initialisation
+      (void)filter_cf.step(poses[0], obs);
       for (int k = 1; k < steps; ++k) {
         (void)fromTangentGaussian(mus[size_t(k)], sigmas[size_t(k)], obs);
         const Status s = filter.step(poses[size_t(k)], obs);

@@ -1,5 +1,5 @@
 // libFuzzer target: the discriminative Bayesian filter (alg:se3_bayes_filter) driven by an
-// arbitrary sequence of reset/step/predict/correct/clear/setOptions calls with arbitrary
+// arbitrary sequence of reset/step/predict/correct/configure calls with arbitrary
 // inputs, for SE3 (double, float) and SE2. Properties (abort on violation):
 //   * no crash, no UB (ASan+UBSan);
 //   * Status::ok or outlier_rejected ⇒ belief and filtered state finite and valid;
@@ -38,7 +38,7 @@ void run(Bytes& b) {
   if (b.u8() & 1) opt.gate_probability = Bytes::to<S>(b.value());
   Filter f(opt);
   for (int op = 0; op < 64 && !b.empty(); ++op) {
-    const Snapshot<G, Policy> before(f);
+    Snapshot<G, Policy> before(f);
     Status s = Status::ok;
     bool inputs_finite = true;
     switch (b.u8() % 8) {
@@ -46,7 +46,10 @@ void run(Bytes& b) {
         const auto o = fuzz::gaussian<G>(b);
         const G p = fuzz::groupElement<G>(b);
         inputs_finite = fuzz::allFinite(o) && p.allFinite();
-        s = f.reset(o, p);
+        f.reset();  // back to uninitialised: this step is the initialisation
+        LIESERVO_FUZZ_REQUIRE(!f.initialised());
+        before = Snapshot<G, Policy>(f);
+        s = f.step(p, o);
         break;
       }
       case 1: {
@@ -65,13 +68,13 @@ void run(Bytes& b) {
         typename Filter::Options o2 = opt;
         o2.process_noise = fuzz::covariance<G>(b);
         o2.gating = (b.u8() & 1) != 0;
-        s = f.setOptions(o2);
+        s = f.configure(o2);
         if (s != Status::ok) LIESERVO_FUZZ_REQUIRE((Snapshot<G, Policy>(f) == before));
         continue;  // options are not state
       }
       case 4:
         if ((b.u8() & 15) == 0) {
-          f.clear();
+          f.reset();
           LIESERVO_FUZZ_REQUIRE(!f.initialised());
           continue;
         }

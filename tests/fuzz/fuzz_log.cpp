@@ -22,7 +22,7 @@ template <class G>
 void checkGroup(Bytes& b) {
   using S = typename G::Scalar;
   using Tangent = typename G::Tangent;
-  constexpr int R = est_detail::rotationDoF<G>();
+  constexpr int R = detail::rotationDoF<G>();
   constexpr int T = G::DoF - R;
   const S tol = std::is_same<S, float>::value ? S(2e-3) : S(1e-9);
 

@@ -43,7 +43,7 @@ struct SensorArm {
     Gaussian g;
     Status s = observe(g);
     if (s != Status::ok) return s;
-    s = filter.initialised() ? filter.step(arm.pose(), g) : filter.reset(g, arm.pose());
+    s = filter.step(arm.pose(), g);  // the first step initialises
     if (s != Status::ok && s != Status::outlier_rejected) return s;
     X_sf = filter.filtered().mean;
     return Status::ok;

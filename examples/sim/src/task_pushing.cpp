@@ -211,7 +211,7 @@ PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& opt, std::u
     } else {
       SE3d X_sf;
       s = leader.sense(X_sf);
-      if (s == Status::ok) s = single.step(X_sf, leader.arm.pose(), dt, uL);
+      if (s == Status::ok) s = single.step(leader.arm.pose(), X_sf, dt, uL);
       terminated = single.terminated();
     }
     if (s != Status::ok) break;

@@ -30,8 +30,9 @@
 namespace lieservo {
 
 /// Leader (pusher) + follower (stabiliser), each with its own filter.  `Filter` must provide
-/// initialised(), reset(observation, sensor_pose), step(sensor_pose, observation) and
-/// filtered() (a ConcentratedGaussian<SE3<Scalar>> or anything with a `mean` member).
+/// step(sensor_pose, observation) that initialises on its first call, reset() and filtered()
+/// (a ConcentratedGaussian<SE3<Scalar>> or anything with a `mean` member): the lifecycle of
+/// DiscriminativeBayesFilter.
 template <class Scalar, class Filter = DiscriminativeBayesFilter<SE3<Scalar>>>
 class DualArmPushing {
  public:
@@ -65,22 +66,32 @@ class DualArmPushing {
     config_status_ = configure(options);
   }
 
-  Status configure(const Options& options) noexcept {
-    if (Leader::validate(options.leader) != Status::ok || Follower::validate(options.follower) != Status::ok)
+  /// ok, or invalid_argument when either controller's options are invalid.
+  static Status validate(const Options& o) noexcept {
+    if (Leader::validate(o.leader) != Status::ok || Follower::validate(o.follower) != Status::ok)
       return Status::invalid_argument;
+    return Status::ok;
+  }
+
+  /// Replaces both controllers' options (states kept); invalid options change nothing.
+  Status configure(const Options& options) noexcept {
+    if (validate(options) != Status::ok) return Status::invalid_argument;
     if (leader_.configure(options.leader) != Status::ok) return Status::invalid_argument;
     if (follower_.configure(options.follower) != Status::ok) return Status::invalid_argument;
     config_status_ = Status::ok;
     return Status::ok;
   }
 
-  /// Steps both filters and both controllers with the same dt.
+  /// Steps both filters and both controllers with the same dt (the filters initialise on
+  /// their first step).  Non-finite or non-orthonormal poses: non_finite_input /
+  /// not_orthonormal, and nothing changes.
   Status step(const ArmInput& leader_in, const ArmInput& follower_in, Scalar dt, ArmOutput& leader_out,
               ArmOutput& follower_out) noexcept {
     if (config_status_ != Status::ok) return config_status_;
     if (!(dt > Scalar(0)) || !std::isfinite(dt)) return Status::invalid_time_step;
-    if (!leader_in.sensor_pose.allFinite() || !follower_in.sensor_pose.allFinite())
-      return Status::non_finite_input;
+    Status check = validateElement(leader_in.sensor_pose);
+    if (check == Status::ok) check = validateElement(follower_in.sensor_pose);
+    if (check != Status::ok) return check;
 
     const Filter leader_filter_backup = leader_filter_;
     const Filter follower_filter_backup = follower_filter_;
@@ -105,7 +116,7 @@ class DualArmPushing {
       return s;
     }
 
-    s = leader_.step(lo.feature_in_sensor, leader_in.sensor_pose, dt, lo.velocity);
+    s = leader_.step(leader_in.sensor_pose, lo.feature_in_sensor, dt, lo.velocity);
     if (s != Status::ok) {
       restore();
       return s;
@@ -124,25 +135,24 @@ class DualArmPushing {
     return Status::ok;
   }
 
-  /// New reference sensor poses X_fs' for both arms (e.g. the tall-object offsets).
+  /// New reference sensor poses X_fs' for both arms (e.g. the tall-object offsets).  Both or
+  /// neither: a non-finite or non-orthonormal pose changes nothing.
   Status setReferences(const Group& leader_reference, const Group& follower_reference) noexcept {
-    if (!leader_reference.allFinite() || !follower_reference.allFinite()) return Status::non_finite_input;
+    Status s = validateElement(leader_reference);
+    if (s == Status::ok) s = validateElement(follower_reference);
+    if (s != Status::ok) return s;
     leader_.setReference(leader_reference);
     follower_.setReference(follower_reference);
     return Status::ok;
   }
 
-  /// Resets both controllers (filters are re-initialised by resetFilters()).
+  /// Clears both controllers and both filters (options kept): the next step re-initialises.
   void reset() noexcept {
     leader_.reset();
     follower_.reset();
+    leader_filter_.reset();
+    follower_filter_.reset();
   }
-  /// Replaces both filters (e.g. freshly constructed ones) so the next step re-initialises.
-  void resetFilters(const Filter& leader_filter, const Filter& follower_filter) {
-    leader_filter_ = leader_filter;
-    follower_filter_ = follower_filter;
-  }
-
   bool terminated() const noexcept { return leader_.terminated(); }
   const Leader& leader() const noexcept { return leader_; }
   const Follower& follower() const noexcept { return follower_; }
@@ -154,10 +164,8 @@ class DualArmPushing {
 
  private:
   static Status filterStep(Filter& filter, const ArmInput& in, ArmOutput& out) noexcept {
-    Status s = filter.initialised() ? filter.step(in.sensor_pose, in.observation)
-                                    : filter.reset(in.observation, in.sensor_pose);
+    const Status s = filter.step(in.sensor_pose, in.observation);
     if (s != Status::ok && s != Status::outlier_rejected) return s;
-    if (!filter.initialised()) return Status::not_initialised;
     out.filter_status = s;
     out.feature_in_sensor = filter.filtered().mean;
     return Status::ok;

@@ -101,16 +101,14 @@ class MimoPid {
   /// (update() returns configurationStatus(), i.e. Status::invalid_argument).
   explicit MimoPid(const Options& options) { config_status_ = configure(options); }
 
-  /// Checks options: finite gains; clip bounds not NaN with min ≤ max (±inf allowed);
+  /// Checks options: finite gains; clip bounds not NaN with min ≤ max, each range holding a
+  /// finite value (±inf allowed as open ends, but not [+inf, +inf] or [−inf, −inf]);
   /// smoothing ∈ (0, 1]; smoothing_time_constant finite and ≥ 0.
   static Status validate(const Options& o) noexcept {
     if (!o.kp.allFinite() || !o.ki.allFinite() || !o.kd.allFinite()) return Status::invalid_argument;
     for (int i = 0; i < N; ++i) {
-      if (std::isnan(o.integral_min[i]) || std::isnan(o.integral_max[i]) ||
-          !(o.integral_min[i] <= o.integral_max[i]))
-        return Status::invalid_argument;
-      if (std::isnan(o.output_min[i]) || std::isnan(o.output_max[i]) ||
-          !(o.output_min[i] <= o.output_max[i]))
+      if (!clipRangeValid(o.integral_min[i], o.integral_max[i]) ||
+          !clipRangeValid(o.output_min[i], o.output_max[i]))
         return Status::invalid_argument;
     }
     if (!(o.smoothing > Scalar(0) && o.smoothing <= Scalar(1))) return Status::invalid_argument;
@@ -235,6 +233,12 @@ class MimoPid {
   Vector kd_diag_ = Vector::Zero();
   Scalar alpha_dt_ = Scalar(0);  // dt of the memoised smoothing weight (0: none)
   Scalar alpha_ = Scalar(0);     // alpha(alpha_dt_)
+
+  // A clip range [lo, hi] must contain a finite number: [+inf, +inf] would clip every output
+  // to infinity and fail every update.
+  static bool clipRangeValid(Scalar lo, Scalar hi) noexcept {
+    return lo <= hi && lo < infinity() && hi > -infinity();  // false for NaN too
+  }
 
   static bool isDiagonal(const Matrix& m) noexcept {
     for (int j = 0; j < N; ++j)

@@ -140,7 +140,7 @@ struct PaperGainConvention {
   bool smoothing_as_time_constant = true;
 };
 
-namespace presets_detail {
+namespace detail {
 template <class Scalar>
 Eigen::Matrix<Scalar, 6, 1> toVec(const double (&v)[6]) {
   Eigen::Matrix<Scalar, 6, 1> r;
@@ -148,18 +148,18 @@ Eigen::Matrix<Scalar, 6, 1> toVec(const double (&v)[6]) {
   return r;
 }
 inline double stepPeriod(const PaperGainConvention& c) { return c.per_step ? c.control_period : 1.0; }
-}  // namespace presets_detail
+}  // namespace detail
 
 /// A reference pose given as a paper Euler 6-vector (mm, degrees) → SE3 (mm, radians).
 template <class Scalar>
 SE3<Scalar> paperPose(const double (&pose_mm_deg)[6]) {
-  return SE3<Scalar>::fromEulerXYZ6Degrees(presets_detail::toVec<Scalar>(pose_mm_deg));
+  return SE3<Scalar>::fromEulerXYZ6Degrees(detail::toVec<Scalar>(pose_mm_deg));
 }
 
 /// A twist in paper units (mm/s, deg/s) → library units (mm/s, rad/s).
 template <class Scalar>
 Eigen::Matrix<Scalar, 6, 1> paperTwist(const double (&twist_mm_deg)[6]) {
-  Eigen::Matrix<Scalar, 6, 1> v = presets_detail::toVec<Scalar>(twist_mm_deg);
+  Eigen::Matrix<Scalar, 6, 1> v = detail::toVec<Scalar>(twist_mm_deg);
   for (int i = 3; i < 6; ++i) v[i] = deg2rad(v[i]);
   return v;
 }
@@ -178,10 +178,10 @@ template <class Scalar>
 typename MimoPid<Scalar, 6>::Options paperMimoPid(const paper::MimoTable& t,
                                                   const PaperGainConvention& c = {}) {
   using Vec = Eigen::Matrix<Scalar, 6, 1>;
-  const double T = presets_detail::stepPeriod(c);
-  Vec kp = presets_detail::toVec<Scalar>(t.kp);
-  Vec ki = presets_detail::toVec<Scalar>(t.ki) / Scalar(T);
-  Vec kd = presets_detail::toVec<Scalar>(t.kd) * Scalar(T);
+  const double T = detail::stepPeriod(c);
+  Vec kp = detail::toVec<Scalar>(t.kp);
+  Vec ki = detail::toVec<Scalar>(t.ki) / Scalar(T);
+  Vec kd = detail::toVec<Scalar>(t.kd) * Scalar(T);
   auto o = MimoPid<Scalar, 6>::Options::diagonal(kp, ki, kd);
   for (int i = 0; i < 6; ++i) {
     double clip = t.integral_clip * T;       // mm·step → mm·s
@@ -197,7 +197,7 @@ typename MimoPid<Scalar, 6>::Options paperMimoPid(const paper::MimoTable& t,
 template <class Scalar>
 typename SisoPid<Scalar>::Options paperAlignmentPid(bool dual_arm, const PaperGainConvention& c = {}) {
   const paper::SisoTable& t = paper::kPushingAlignment;
-  const double T = presets_detail::stepPeriod(c);
+  const double T = detail::stepPeriod(c);
   const double per_rad = rad2deg(1.0);  // (mm/s per deg) → (mm/s per rad): × 180/π
   typename SisoPid<Scalar>::Options o;
   o.kp = Scalar(t.kp * per_rad);

@@ -39,8 +39,10 @@
 
 #include <lieservo/control/pid.hpp>
 #include <lieservo/control/tactile_servo_controller.hpp>
+#include <lieservo/groups/perturbation.hpp>
 #include <lieservo/groups/se3.hpp>
 #include <lieservo/status.hpp>
+#include <lieservo/units.hpp>
 
 namespace lieservo {
 
@@ -74,7 +76,8 @@ class PushingController {
   static Status validate(const Options& o) noexcept {
     if (Servo::validate(o.servo) != Status::ok) return Status::invalid_argument;
     if (Alignment::validate(o.alignment) != Status::ok) return Status::invalid_argument;
-    if (!std::isfinite(o.reference_bearing) || !o.target.allFinite()) return Status::invalid_argument;
+    if (!std::isfinite(o.reference_bearing) || validateElement(o.target) != Status::ok)
+      return Status::invalid_argument;
     if (std::isnan(o.alignment_cutoff) || o.alignment_cutoff < Scalar(0)) return Status::invalid_argument;
     if (std::isnan(o.termination_radius) || o.termination_radius < Scalar(0))
       return Status::invalid_argument;
@@ -92,9 +95,11 @@ class PushingController {
     return Status::ok;
   }
 
-  /// New target X_wt; clears the termination latch.
+  /// New target X_wt; clears the termination latch. non_finite_input / not_orthonormal
+  /// (validateElement) leave the target and the latch unchanged.
   Status setTarget(const Group& target_in_work) noexcept {
-    if (!target_in_work.allFinite()) return Status::non_finite_input;
+    const Status s = validateElement(target_in_work);
+    if (s != Status::ok) return s;
     options_.target = target_in_work;
     terminated_ = false;
     return Status::ok;
@@ -107,14 +112,17 @@ class PushingController {
     return s;
   }
 
-  /// One control cycle: `feature_in_sensor` X_sf (filtered), `sensor_in_work` X_ws, `dt` > 0,
-  /// `u` receives the sensor body twist in {s}.  After termination: u = 0, Status::ok.
-  /// On any non-ok Status nothing changes.
-  Status step(const Group& feature_in_sensor, const Group& sensor_in_work, Scalar dt,
+  /// One control cycle: `sensor_in_work` X_ws (the robot's sensor pose, first as in the
+  /// filter's step), `feature_in_sensor` X_sf (filtered), `dt` > 0; `u` receives the sensor body
+  /// twist in {s}.  After termination: u = 0, Status::ok.  A non-finite or non-orthonormal pose
+  /// gives non_finite_input / not_orthonormal.  On any non-ok Status nothing changes.
+  Status step(const Group& sensor_in_work, const Group& feature_in_sensor, Scalar dt,
               Tangent& u) noexcept {
     if (config_status_ != Status::ok) return config_status_;
     if (!(dt > Scalar(0)) || !std::isfinite(dt)) return Status::invalid_time_step;
-    if (!feature_in_sensor.allFinite() || !sensor_in_work.allFinite()) return Status::non_finite_input;
+    Status s = validateElement(sensor_in_work);
+    if (s == Status::ok) s = validateElement(feature_in_sensor);
+    if (s != Status::ok) return s;
 
     // Termination check: tip centre (sensor origin) to target origin.
     const Group X_sw = sensor_in_work.inverse();
@@ -135,7 +143,7 @@ class PushingController {
     // Tactile servoing (PID 1); copies restore the state if a later stage fails.
     const Servo servo_backup = servo_;
     Tangent u_servo = Tangent::Zero();
-    Status s = servo_.step(feature_in_sensor, dt, u_servo);
+    s = servo_.step(feature_in_sensor, dt, u_servo);
     if (s != Status::ok) return s;
 
     // Target in the reference sensor frame, eqn:transformed_target_pose.
@@ -192,7 +200,7 @@ class PushingController {
 
   /// Wraps an angle to (−π, π].
   static Scalar wrapAngle(Scalar a) noexcept {
-    const Scalar pi = Scalar(3.14159265358979323846264338327950288L);
+    const Scalar pi = lieservo::pi<Scalar>();
     a = std::remainder(a, Scalar(2) * pi);
     return a <= -pi ? a + Scalar(2) * pi : a;
   }

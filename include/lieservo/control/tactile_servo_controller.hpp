@@ -26,6 +26,7 @@
 
 #include <lieservo/control/pid.hpp>
 #include <lieservo/detail/flatten.hpp>
+#include <lieservo/groups/perturbation.hpp>
 #include <lieservo/status.hpp>
 
 namespace lieservo {
@@ -51,8 +52,11 @@ class TactileServoController {
   /// Configures with `options`; invalid options make step() return Status::invalid_argument.
   explicit TactileServoController(const Options& options) { config_status_ = configure(options); }
 
+  /// ok, or invalid_argument: a reference that is not a valid element (non-finite or a
+  /// non-orthonormal rotation), a non-finite feedforward, or invalid PID options.
   static Status validate(const Options& o) noexcept {
-    if (!o.reference.allFinite() || !o.feedforward.allFinite()) return Status::invalid_argument;
+    if (validateElement(o.reference) != Status::ok || !o.feedforward.allFinite())
+      return Status::invalid_argument;
     return Pid::validate(o.pid);
   }
 
@@ -69,8 +73,10 @@ class TactileServoController {
   }
 
   /// New reference sensor pose X_fs' (e.g. the paper's ±0.5 mm tall-object offsets).
+  /// non_finite_input / not_orthonormal (validateElement) leave the reference unchanged.
   Status setReference(const G& reference_sensor_pose_in_feature) noexcept {
-    if (!reference_sensor_pose_in_feature.allFinite()) return Status::non_finite_input;
+    const Status s = validateElement(reference_sensor_pose_in_feature);
+    if (s != Status::ok) return s;
     options_.reference = reference_sensor_pose_in_feature;
     return Status::ok;
   }
@@ -90,12 +96,14 @@ class TactileServoController {
   }
 
   /// One control cycle.  `feature_in_sensor` = X_sf (filtered), `dt` > 0 the time since the
-  /// last cycle, `u` receives the sensor body twist in {s}.  On any non-ok Status nothing
-  /// changes (u, error(), PID state).
+  /// last cycle, `u` receives the sensor body twist in {s}.  A non-finite or non-orthonormal
+  /// X_sf gives non_finite_input / not_orthonormal.  On any non-ok Status nothing changes
+  /// (u, error(), PID state).
   LIESERVO_FLATTEN Status step(const G& feature_in_sensor, Scalar dt, Tangent& u) noexcept {
     if (config_status_ != Status::ok) return config_status_;
     if (!(dt > Scalar(0)) || !std::isfinite(dt)) return Status::invalid_time_step;
-    if (!feature_in_sensor.allFinite()) return Status::non_finite_input;
+    const Status c = validateElement(feature_in_sensor);
+    if (c != Status::ok) return c;
 
     const G E = servoError(feature_in_sensor, options_.reference);   // X_ss'
     const Tangent e = E.log();                                       // eqn:local_tangent_space_error

@@ -38,10 +38,10 @@ namespace lieservo {
 template <class G>
 typename G::Jacobian paperProcessNoise() noexcept {
   using Scalar = typename G::Scalar;
-  constexpr int R = est_detail::rotationDoF<G>();
+  constexpr int R = detail::rotationDoF<G>();
   typename G::Jacobian S = G::Jacobian::Zero();
   const Scalar st = Scalar(0.5);
-  const Scalar sr = Scalar(0.5 * 3.14159265358979323846 / 180.0);
+  const Scalar sr = deg2rad(Scalar(0.5));
   for (int i = 0; i < G::DoF; ++i) S(i, i) = (i < G::DoF - R) ? st * st : sr * sr;
   return S;
 }
@@ -79,66 +79,50 @@ class DiscriminativeBayesFilter {
     std::uint64_t rejected = 0;     ///< observations rejected by the gate
   };
 
-  DiscriminativeBayesFilter() noexcept { setOptions(Options()); }
-  /// Invalid options (see validateOptions) leave the filter unusable: every call returns
-  /// invalid_argument until setOptions succeeds.
+  DiscriminativeBayesFilter() noexcept { configure(Options()); }
+  /// Invalid options (see validate) leave the filter unusable: every call returns
+  /// invalid_argument until configure succeeds.
   explicit DiscriminativeBayesFilter(const Options& options) noexcept {
-    if (setOptions(options) != Status::ok) options_status_ = Status::invalid_argument;
+    if (configure(options) != Status::ok) options_status_ = Status::invalid_argument;
   }
 
   /// ok, or invalid_argument (fusion options out of range, gate_probability ∉ (0,1)),
   /// non_finite_input / not_spd (process noise).
-  static Status validateOptions(const Options& o) noexcept {
+  static Status validate(const Options& o) noexcept {
     if (o.fusion.max_iterations < 1 || !std::isfinite(o.fusion.tolerance) ||
         o.fusion.tolerance < Scalar(0))
       return Status::invalid_argument;
     if (!(o.gate_probability > Scalar(0) && o.gate_probability < Scalar(1)))
       return Status::invalid_argument;
-    return est_detail::checkPsd(o.process_noise);
+    return detail::checkPsd(o.process_noise);
   }
 
   /// Replaces the options (not real-time: computes the gate threshold). State is kept.
-  Status setOptions(const Options& o) noexcept {
-    const Status s = validateOptions(o);
+  /// Invalid options: the Status says why and nothing changes.
+  Status configure(const Options& o) noexcept {
+    const Status s = validate(o);
     if (s != Status::ok) return s;
     options_ = o;
-    est_detail::symmetrize(options_.process_noise);
+    detail::symmetrize(options_.process_noise);
     diag_.gate_threshold =
         Scalar(chiSquareQuantile(double(o.gate_probability), double(G::DoF)));
     options_status_ = Status::ok;
     return Status::ok;
   }
   const Options& options() const noexcept { return options_; }
+  /// ok, or invalid_argument when the constructor was given invalid options.
+  Status configurationStatus() const noexcept { return options_status_; }
 
-  /// Initialisation of alg:se3_bayes_filter: fil_0 = bel_0 = obs_0, remembering X_0^sens.
-  Status reset(const Gaussian& first_observation, const G& sensor_pose) noexcept {
-    Status s = options_status_;
-    if (s == Status::ok) s = validate(first_observation);
-    if (s == Status::ok) s = est_detail::checkGroupElement(sensor_pose);
-    if (s != Status::ok) return diag_.last_status = s;
-    belief_ = first_observation;
-    est_detail::symmetrize(belief_.covariance);
-    filtered_ = belief_;
-    sensor_pose_ = sensor_pose;
-    initialised_ = true;
-    diag_.iterations = 0;
-    diag_.step_norm = Scalar(0);
-    diag_.nis = Scalar(0);
-    diag_.gated = false;
-    diag_.max_rotation_separation = Scalar(0);
-    diag_.corrections = 1;
-    diag_.rejected = 0;
-    return diag_.last_status = Status::ok;
-  }
-
-  /// One step of alg:se3_bayes_filter: predict with T̄_k = (X_k^sens)⁻¹ X_{k−1}^sens, then correct
-  /// with the observation. Atomic: on any error nothing changes; on outlier_rejected the state
-  /// is the prediction (and the sensor pose is advanced).
+  /// One step of alg:se3_bayes_filter. The first step after construction or reset() is the
+  /// algorithm's initialisation, fil_0 = bel_0 = obs_0, remembering X_0^sens; every later step
+  /// predicts with T̄_k = (X_k^sens)⁻¹ X_{k−1}^sens, then corrects with the observation.
+  /// Atomic: on any error nothing changes; on outlier_rejected the state is the prediction
+  /// (and the sensor pose is advanced).
   Status step(const G& sensor_pose, const Gaussian& observation) noexcept {
     if (options_status_ != Status::ok) return diag_.last_status = options_status_;
-    if (!initialised_) return diag_.last_status = Status::not_initialised;
-    Status s = est_detail::checkGroupElement(sensor_pose);
+    Status s = detail::checkGroupElement(sensor_pose);
     if (s != Status::ok) return diag_.last_status = s;
+    if (!initialised_) return initialise(sensor_pose, observation);
     const G T_bar = sensor_pose.inverse() * sensor_pose_;
     Gaussian bel;
     Jacobian L_bel;
@@ -160,7 +144,7 @@ class DiscriminativeBayesFilter {
   Status predict(const G& T_bar) noexcept {
     if (options_status_ != Status::ok) return diag_.last_status = options_status_;
     if (!initialised_) return diag_.last_status = Status::not_initialised;
-    Status s = est_detail::checkGroupElement(T_bar);
+    Status s = detail::checkGroupElement(T_bar);
     if (s != Status::ok) return diag_.last_status = s;
     Gaussian bel;
     Jacobian L_bel;
@@ -177,7 +161,7 @@ class DiscriminativeBayesFilter {
     if (options_status_ != Status::ok) return diag_.last_status = options_status_;
     if (!initialised_) return diag_.last_status = Status::not_initialised;
     Jacobian L_bel;
-    Status s = est_detail::choleskyChecked(filtered_.covariance, L_bel);
+    Status s = detail::choleskyChecked(filtered_.covariance, L_bel);
     if (s != Status::ok) return diag_.last_status = s;
     Gaussian fil;
     Diagnostics d = diag_;
@@ -196,8 +180,8 @@ class DiscriminativeBayesFilter {
   const G& sensorPose() const noexcept { return sensor_pose_; }
   const Diagnostics& diagnostics() const noexcept { return diag_; }
   bool initialised() const noexcept { return initialised_; }
-  /// Back to the uninitialised state (options kept).
-  void clear() noexcept {
+  /// Back to the uninitialised state (options kept): the next step() initialises.
+  void reset() noexcept {
     initialised_ = false;
     belief_ = Gaussian();
     filtered_ = Gaussian();
@@ -208,6 +192,22 @@ class DiscriminativeBayesFilter {
   }
 
  private:
+  // Initialisation of alg:se3_bayes_filter: fil_0 = bel_0 = obs_0. The sensor pose is checked.
+  Status initialise(const G& sensor_pose, const Gaussian& first_observation) noexcept {
+    const Status s = first_observation.validate();
+    if (s != Status::ok) return diag_.last_status = s;
+    belief_ = first_observation;
+    detail::symmetrize(belief_.covariance);
+    filtered_ = belief_;
+    sensor_pose_ = sensor_pose;
+    initialised_ = true;
+    const Scalar thr = diag_.gate_threshold;
+    diag_ = Diagnostics();
+    diag_.gate_threshold = thr;
+    diag_.corrections = 1;
+    return diag_.last_status = Status::ok;
+  }
+
   // The state is valid at all times (reset validates it, fuse checks what it returns) and the
   // options were validated by setOptions, so the step checks only what comes from outside: the
   // sensor pose and the observation. T̄ is a product of valid elements. Each covariance is
@@ -216,9 +216,9 @@ class DiscriminativeBayesFilter {
                      Jacobian& L_bel) const noexcept {
     Gaussian r = transform(fil, T_bar, options_.process_noise);  // eqn:bayes_filter_prediction
     r.mean.normalize();
-    if (!r.mean.allFinite() || !est_detail::allFinite(r.covariance))
+    if (!r.mean.allFinite() || !detail::allFinite(r.covariance))
       return Status::numerical_failure;
-    if (est_detail::repairSpd(r.covariance, &L_bel) != Status::ok)
+    if (detail::repairSpd(r.covariance, &L_bel) != Status::ok)
       return Status::numerical_failure;
     bel = r;
     return Status::ok;
@@ -226,10 +226,10 @@ class DiscriminativeBayesFilter {
 
   Status correctInto(const Gaussian& bel, const Jacobian& L_bel, const Gaussian& obs,
                      Gaussian& fil, Diagnostics& d) const noexcept {
-    Status s = est_detail::checkGroupElement(obs.mean);
+    Status s = detail::checkGroupElement(obs.mean);
     if (s != Status::ok) return s;
     Jacobian L_obs;
-    s = est_detail::choleskyChecked(obs.covariance, L_obs);
+    s = detail::choleskyChecked(obs.covariance, L_obs);
     if (s != Status::ok) return s;
     Scalar nis(0);
     s = normalizedInnovationSquared(obs, bel, nis);
@@ -247,7 +247,7 @@ class DiscriminativeBayesFilter {
     // alg:se3_data_fusion, the operating point starting at the observation (as the paper).
     const G means[2] = {obs.mean, bel.mean};
     const Jacobian L[2] = {L_obs, L_bel};
-    s = est_detail::fuseFactored<Policy>(means, L, 2, options_.fusion, r);
+    s = detail::fuseFactored<Policy>(means, L, 2, options_.fusion, r);
     if (s != Status::ok) return s;
     fil = r.fused;
     d.nis = nis;

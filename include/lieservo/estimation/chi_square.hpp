@@ -9,7 +9,7 @@
 #include <limits>
 
 namespace lieservo {
-namespace chi_square_detail {
+namespace detail {
 
 /// ln Γ(a) for a > 0 via std::lgamma (thread-safety note: glibc's lgamma writes `signgam`;
 /// the filters call these functions only when their options are set, not per step).
@@ -78,17 +78,17 @@ inline double normalQuantile(double p) noexcept {
   return z;
 }
 
-}  // namespace chi_square_detail
+}  // namespace detail
 
 /// χ² CDF with `dof` degrees of freedom: P(dof/2, x/2). NaN for dof < 1.
 inline double chiSquareCdf(double x, double dof) noexcept {
   if (!(dof > 0.0)) return std::numeric_limits<double>::quiet_NaN();
-  return chi_square_detail::regularizedGammaP(0.5 * dof, 0.5 * x);
+  return detail::regularizedGammaP(0.5 * dof, 0.5 * x);
 }
 
 /// Wilson–Hilferty approximation of the χ² quantile: dof (1 − 2/(9 dof) + z √(2/(9 dof)))³.
 inline double chiSquareQuantileWilsonHilferty(double p, double dof) noexcept {
-  const double z = chi_square_detail::normalQuantile(p);
+  const double z = detail::normalQuantile(p);
   const double h = 2.0 / (9.0 * dof);
   const double t = 1.0 - h + z * std::sqrt(h);
   return t > 0.0 ? dof * t * t * t : 0.0;
@@ -103,7 +103,7 @@ inline double chiSquareQuantile(double p, double dof) noexcept {
   for (int i = 0; i < 2000 && chiSquareCdf(hi, dof) < p; ++i) hi *= 2.0;
   double x = chiSquareQuantileWilsonHilferty(p, dof);
   if (!(x > lo && x < hi)) x = 0.5 * (lo + hi);
-  const double lg = chi_square_detail::logGamma(a);
+  const double lg = detail::logGamma(a);
   for (int i = 0; i < 300; ++i) {
     const double f = chiSquareCdf(x, dof) - p;
     if (f == 0.0) return x;

@@ -18,6 +18,7 @@
 #include <Eigen/Core>
 
 #include "../status.hpp"
+#include "../units.hpp"
 #include "detail/linalg.hpp"
 #include "jacobian_policy.hpp"
 
@@ -55,14 +56,14 @@ auto castGaussian(const ConcentratedGaussian<G>& x) {
 /// Checks a covariance matrix: ok, non_finite_input or not_spd (see ConcentratedGaussian::validate).
 template <class Mat>
 Status checkCovariance(const Mat& S) noexcept {
-  return est_detail::checkSpd(S);
+  return detail::checkSpd(S);
 }
 
 template <class G>
 Status validate(const ConcentratedGaussian<G>& x) noexcept {
-  const Status s = est_detail::checkGroupElement(x.mean);
+  const Status s = detail::checkGroupElement(x.mean);
   if (s != Status::ok) return s;
-  return est_detail::checkSpd(x.covariance);
+  return detail::checkSpd(x.covariance);
 }
 
 template <class G>
@@ -81,27 +82,27 @@ ConcentratedGaussian<G> transform(const ConcentratedGaussian<G>& x, const G& T_b
   ConcentratedGaussian<G> out;
   out.mean = T_bar * x.mean;
   out.covariance = Ad * x.covariance * Ad.transpose() + Sigma_phi;
-  est_detail::symmetrize(out.covariance);
+  detail::symmetrize(out.covariance);
   return out;
 }
 
 /// Checked version of transform (eqn:se3_rv_probabilistic_transform_2): x must validate, T̄
 /// must be a valid group element, Σφ finite symmetric positive semi-definite (0 allowed);
 /// the result must be finite and SPD (else numerical_failure; a rounding-level loss of
-/// definiteness is repaired by est_detail::repairSpd). `out` may alias `x`.
+/// definiteness is repaired by detail::repairSpd). `out` may alias `x`.
 template <class G>
 Status transform(const ConcentratedGaussian<G>& x, const G& T_bar,
                  const typename G::Jacobian& Sigma_phi, ConcentratedGaussian<G>& out) noexcept {
   Status s = validate(x);
   if (s != Status::ok) return s;
-  s = est_detail::checkGroupElement(T_bar);
+  s = detail::checkGroupElement(T_bar);
   if (s != Status::ok) return s;
-  s = est_detail::checkPsd(Sigma_phi);
+  s = detail::checkPsd(Sigma_phi);
   if (s != Status::ok) return s;
   ConcentratedGaussian<G> r = transform(x, T_bar, Sigma_phi);
   r.mean.normalize();
   if (!r.mean.allFinite() || !r.covariance.allFinite()) return Status::numerical_failure;
-  if (est_detail::repairSpd(r.covariance) != Status::ok) return Status::numerical_failure;
+  if (detail::repairSpd(r.covariance) != Status::ok) return Status::numerical_failure;
   out = r;
   return Status::ok;
 }
@@ -114,7 +115,7 @@ ConcentratedGaussian<G> inverse(const ConcentratedGaussian<G>& x) noexcept {
   out.mean = x.mean.inverse();
   const typename G::Jacobian Ad = out.mean.Ad();
   out.covariance = Ad * x.covariance * Ad.transpose();
-  est_detail::symmetrize(out.covariance);
+  detail::symmetrize(out.covariance);
   return out;
 }
 
@@ -129,7 +130,7 @@ ConcentratedGaussian<G> compose(const ConcentratedGaussian<G>& a,
   ConcentratedGaussian<G> out;
   out.mean = a.mean * b.mean;
   out.covariance = a.covariance + Ad * b.covariance * Ad.transpose();
-  est_detail::symmetrize(out.covariance);
+  detail::symmetrize(out.covariance);
   return out;
 }
 
@@ -137,20 +138,24 @@ ConcentratedGaussian<G> compose(const ConcentratedGaussian<G>& a,
 /// (eq:se3_inverse_transform, inverting eqn:glob_tangent_space_pdf):
 ///     X̄ = exp(μ^),   Σ = J(μ) Σξ J(μ)ᵀ,
 /// J evaluated by the policy (closed form by default; SeriesJacobian<2> for the paper's
-/// truncation). Status: non_finite_input, not_spd (Σξ), numerical_failure (J(μ) singular,
-/// i.e. a rotation angle at 2π, or a non-finite result).
+/// truncation). μ must lie in the principal branch of ln, rotation angle |φ| ≤ π: beyond it
+/// the same X̄ has a shorter μ, and J(μ) tends to singular at 2π (condition numbers ~1e67), so
+/// the covariance would be meaningless. Status: non_finite_input, invalid_argument (|φ| > π),
+/// not_spd (Σξ), numerical_failure (a non-finite result).
 template <class Policy = ClosedFormJacobian, class G>
 Status fromTangentCovariance(const typename G::Tangent& mu, const typename G::Jacobian& Sigma_xi,
                              ConcentratedGaussian<G>& out) noexcept {
+  using Scalar = typename G::Scalar;
   if (!mu.allFinite() || !Sigma_xi.allFinite()) return Status::non_finite_input;
-  Status s = est_detail::checkSpd(Sigma_xi);
+  if (detail::rotationAngle<G>(mu) > pi<Scalar>()) return Status::invalid_argument;
+  Status s = detail::checkSpd(Sigma_xi);
   if (s != Status::ok) return s;
   ConcentratedGaussian<G> r;
   r.mean = G::exp(mu);
   const typename G::Jacobian J = Policy::template forward<G>(mu);
   r.covariance = J * Sigma_xi * J.transpose();
   if (!r.mean.allFinite() || !r.covariance.allFinite()) return Status::numerical_failure;
-  if (est_detail::repairSpd(r.covariance) != Status::ok) return Status::numerical_failure;
+  if (detail::repairSpd(r.covariance) != Status::ok) return Status::numerical_failure;
   out = r;
   return Status::ok;
 }
@@ -178,7 +183,7 @@ Status toTangentGaussian(const ConcentratedGaussian<G>& x, typename G::Tangent& 
   typename G::Jacobian Jinv;
   const typename G::Tangent m = Policy::logAndInverse(x.mean, Jinv);
   typename G::Jacobian S = Jinv * x.covariance * Jinv.transpose();
-  est_detail::symmetrize(S);
+  detail::symmetrize(S);
   if (!m.allFinite() || !S.allFinite()) return Status::numerical_failure;
   mu = m;
   Sigma_xi = S;
@@ -190,12 +195,14 @@ Status toTangentGaussian(const ConcentratedGaussian<G>& x, typename G::Tangent& 
 template <class G>
 Status mahalanobisSquared(const ConcentratedGaussian<G>& x, const G& X,
                           typename G::Scalar& d2) noexcept {
-  if (!x.mean.allFinite() || !X.allFinite()) return Status::non_finite_input;
-  typename G::Jacobian L;
-  const Status s = est_detail::choleskyChecked(x.covariance, L);
+  Status s = detail::checkGroupElement(x.mean);
+  if (s == Status::ok) s = detail::checkGroupElement(X);
   if (s != Status::ok) return s;
-  typename G::Tangent w = (X * x.mean.inverse()).log();  // ε
-  est_detail::lowerSolveInPlace(L, w);                     // L⁻¹ ε
+  typename G::Jacobian L;
+  s = detail::choleskyChecked(x.covariance, L);
+  if (s != Status::ok) return s;
+  typename G::Tangent w = lminus(X, x.mean);  // ε = X ⊖ X̄
+  detail::lowerSolveInPlace(L, w);                     // L⁻¹ ε
   const typename G::Scalar r = w.squaredNorm();
   if (!std::isfinite(r)) return Status::numerical_failure;
   d2 = r;
@@ -208,7 +215,7 @@ template <class G, class Rng>
 G sample(const ConcentratedGaussian<G>& x, Rng& rng) {
   using Scalar = typename G::Scalar;
   typename G::Jacobian L;
-  if (est_detail::choleskyChecked(x.covariance, L) != Status::ok) return x.mean;
+  if (detail::choleskyChecked(x.covariance, L) != Status::ok) return x.mean;
   std::normal_distribution<double> n01(0.0, 1.0);
   typename G::Tangent z;
   for (int i = 0; i < G::DoF; ++i) z[i] = Scalar(n01(rng));

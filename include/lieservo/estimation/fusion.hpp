@@ -72,7 +72,7 @@ Scalar cutLocusMargin() noexcept {
   return Scalar(8) * std::sqrt(std::numeric_limits<Scalar>::epsilon());
 }
 
-namespace est_detail {
+namespace detail {
 
 /// Householder triangularisation, in place, of a fixed-size M from column K on (columns
 /// K..TriCols−1 are reduced; later columns are transformed along, i.e. they become Qᵀ·column).
@@ -146,7 +146,7 @@ struct SqrtInformation {
   auto c() const noexcept { return M.template block<D, 1>(0, D); }
 };
 
-}  // namespace est_detail
+}  // namespace detail
 
 /// Normalised innovation squared of an observation against a prior (both concentrated
 /// Gaussians), linearised at the prior mean to first order:
@@ -160,23 +160,23 @@ Status normalizedInnovationSquared(const ConcentratedGaussian<G>& observation,
                                    typename G::Scalar& nis,
                                    typename G::Tangent* innovation = nullptr) noexcept {
   if (!observation.mean.allFinite() || !prior.mean.allFinite() ||
-      !est_detail::allFinite(observation.covariance) || !est_detail::allFinite(prior.covariance))
+      !detail::allFinite(observation.covariance) || !detail::allFinite(prior.covariance))
     return Status::non_finite_input;
   const typename G::Jacobian S = observation.covariance + prior.covariance;
   typename G::Jacobian L;
-  const Status s = est_detail::choleskyChecked(S, L);
+  const Status s = detail::choleskyChecked(S, L);
   if (s != Status::ok) return s;
-  const typename G::Tangent nu = (observation.mean * prior.mean.inverse()).log();
+  const typename G::Tangent nu = lminus(observation.mean, prior.mean);
   typename G::Tangent w = nu;
-  est_detail::lowerSolveInPlace(L, w);
+  detail::lowerSolveInPlace(L, w);
   const typename G::Scalar r = w.squaredNorm();
-  if (!est_detail::allFinite(nu) || !std::isfinite(r)) return Status::numerical_failure;
+  if (!detail::allFinite(nu) || !std::isfinite(r)) return Status::numerical_failure;
   nis = r;
   if (innovation) *innovation = nu;
   return Status::ok;
 }
 
-namespace est_detail {
+namespace detail {
 
 /// The iteration of alg:se3_data_fusion on factors that are already validated: `means` are
 /// valid group elements, `L` the lower Cholesky factors of their covariances (Σ_i = L_i L_iᵀ,
@@ -261,7 +261,7 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
   return Status::ok;
 }
 
-}  // namespace est_detail
+}  // namespace detail
 
 /// N-ary fusion (alg:se3_data_fusion generalised to `count` factors, 1 ≤ count ≤
 /// kMaxFusionFactors): the operating point starts at factors[0].mean.
@@ -282,13 +282,13 @@ Status fuse(const ConcentratedGaussian<G>* factors, int count,
   typename G::Jacobian L[kMaxFusionFactors];
   G means[kMaxFusionFactors];
   for (int i = 0; i < count; ++i) {
-    Status s = est_detail::checkGroupElement(factors[i].mean);
+    Status s = detail::checkGroupElement(factors[i].mean);
     if (s != Status::ok) return s;
-    s = est_detail::choleskyChecked(factors[i].covariance, L[i]);
+    s = detail::choleskyChecked(factors[i].covariance, L[i]);
     if (s != Status::ok) return s;
     means[i] = factors[i].mean;
   }
-  return est_detail::fuseFactored<Policy>(means, L, count, options, result);
+  return detail::fuseFactored<Policy>(means, L, count, options, result);
 }
 
 /// Fusion of two factors (alg:se3_data_fusion); the operating point starts at `first.mean`

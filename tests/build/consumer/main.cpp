@@ -24,7 +24,7 @@ int run() {
     ConcentratedGaussian<SE3d> obs;
     Status s = fromTangentGaussian(mu, sigma, obs);                    // eq:se3_inverse_transform
     if (s == Status::ok)
-      s = filter.initialised() ? filter.step(X_ws, obs) : filter.reset(obs, X_ws);  // Algorithm 2
+      s = filter.step(X_ws, obs);  // Algorithm 2 (the first step initialises)
     if (s == Status::ok) s = servo.step(filter.filtered().mean, dt, twist);  // sensor-frame twist
     if (s != Status::ok) { std::fprintf(stderr, "lieservo: %s\n", describe(s)); return 1; }
   }

@@ -10,10 +10,11 @@
 #include <Eigen/Core>
 
 #include "../../detail/finite.hpp"
+#include "../../groups/perturbation.hpp"
 #include "../../status.hpp"
 
 namespace lieservo {
-namespace est_detail {
+namespace detail {
 
 /// Number of rotational degrees of freedom of G (1 for SO(2)/SE(2), 3 for SO(3)/SE(3)): by the
 /// library's convention ξ = [ρ; φ], the rotation is the tail of the tangent vector.
@@ -43,7 +44,6 @@ Scalar pivotTolerance() noexcept {
   return Scalar(64) * std::numeric_limits<Scalar>::epsilon();
 }
 
-using detail::allFinite;  // fast finite test (lieservo/detail/finite.hpp)
 
 /// Checks that S is finite and symmetric positive-definite, and returns the lower Cholesky
 /// factor L of its symmetric part (S_sym = L Lᵀ). Status: ok, non_finite_input or not_spd.
@@ -199,13 +199,11 @@ Status repairSpd(Mat& S, Mat* chol = nullptr) noexcept {
   return Status::ok;
 }
 
-/// Checks a group element: finite, orthonormal rotation with det +1 (through the core's
-/// checked constructor G::fromMatrix).
+/// Checks a group element: finite, orthonormal rotation with det +1 (lieservo::validateElement).
 template <class G>
 Status checkGroupElement(const G& X) noexcept {
-  G tmp;
-  return G::fromMatrix(X.matrix(), tmp);
+  return validateElement(X);
 }
 
-}  // namespace est_detail
+}  // namespace detail
 }  // namespace lieservo

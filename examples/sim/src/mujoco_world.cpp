@@ -1,0 +1,342 @@
+// lieservo_sim/mujoco_world.cpp — scene → MJCF, the MuJoCo model and data, tip geometry.
+#include "lieservo_sim/mujoco_world.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <set>
+#include <sstream>
+
+#include <mujoco/mujoco.h>
+
+#include <lieservo/groups/perturbation.hpp>
+
+namespace lieservo::sim::mujoco {
+namespace {
+
+constexpr double kMm = 1e-3;  // mm → m
+constexpr double kGravity = 9.81;
+// Constant impedance of the gel contact (solimp d0 = d_width = 0.9): with MuJoCo's soft
+// constraints the quasi-static normal force is then F ≈ K · m · imp/(1 − imp) · depth for a
+// direct-form stiffness K and an object of mass m, so K = k_gel (1 − imp) / (imp m) gives the
+// gel's N/mm slope (measured by test_sim_mujoco: "tip depth against force").
+constexpr double kGelImpedance = 0.9;
+
+const char* const kShapes[] = {"square", "circle", "hexagon"};
+
+std::string num(double v) {
+  std::ostringstream s;
+  s.precision(9);
+  s << v;
+  return s.str();
+}
+
+// MuJoCo's quaternion (w, x, y, z) of a rotation matrix.
+std::string quatOf(const Mat3& R) {
+  const Eigen::Quaterniond q(R);
+  return num(q.w()) + " " + num(q.x()) + " " + num(q.y()) + " " + num(q.z());
+}
+
+void requireName(const std::string& n, const char* what) {
+  if (n.empty()) throw SceneError(std::string(what) + " name must not be empty");
+  for (char c : n)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_'))
+      throw SceneError(std::string(what) + " name '" + n + "' may hold letters, digits and '_' only");
+}
+
+// The regular hexagon as a convex mesh (circumradius r, height h, metres), base at z = 0.
+std::string hexagonMesh(const std::string& name, double r, double h) {
+  std::string v;
+  for (int z = 0; z < 2; ++z)
+    for (int k = 0; k < 6; ++k) {
+      const double a = k * kPi / 3;
+      v += num(r * std::cos(a)) + " " + num(r * std::sin(a)) + " " + num(z * h) + " ";
+    }
+  return "    <mesh name=\"" + name + "_mesh\" vertex=\"" + v + "\"/>\n";
+}
+
+}  // namespace
+
+void SceneSpec::validate() const {
+  requirePositive(timestep, "timestep");
+  requirePositive(impratio, "impratio");
+  requireNonNegative(support.friction, "support friction");
+  std::set<std::string> names;
+  for (const ObjectSpec& o : objects) {
+    requireName(o.name, "object");
+    if (!names.insert(o.name).second) throw SceneError("duplicate name '" + o.name + "'");
+    if (std::find(std::begin(kShapes), std::end(kShapes), o.shape) == std::end(kShapes))
+      throw SceneError("object '" + o.name + "': unknown shape '" + o.shape +
+                       "' (square, circle or hexagon)");
+    const std::string p = "object '" + o.name + "' ";
+    requirePositive(o.size, (p + "size").c_str());
+    requirePositive(o.height, (p + "height").c_str());
+    requirePositive(o.mass, (p + "mass").c_str());
+    requireNonNegative(o.friction, (p + "friction").c_str());
+    if (!std::isfinite(o.x) || !std::isfinite(o.y) || !std::isfinite(o.yaw))
+      throw SceneError(p + "position and yaw must be finite");
+  }
+  for (const SensorSpec& s : sensors) {
+    requireName(s.name, "sensor");
+    if (!names.insert(s.name).second) throw SceneError("duplicate name '" + s.name + "'");
+    const std::string p = "sensor '" + s.name + "' ";
+    requirePositive(s.tip_radius, (p + "tip_radius").c_str());
+    requirePositive(s.gel_stiffness, (p + "gel_stiffness").c_str());
+    requirePositive(s.gel_damping_ratio, (p + "gel_damping_ratio").c_str());
+    requireValidPose(s.initial_pose, (p + "initial_pose").c_str());
+  }
+}
+
+std::string sceneMjcf(const SceneSpec& spec) {
+  spec.validate();
+  std::ostringstream x;
+  x << "<mujoco model=\"lieservo_scene\">\n"
+    << "  <option timestep=\"" << num(spec.timestep) << "\" gravity=\"0 0 " << num(-kGravity)
+    << "\" cone=\"elliptic\" impratio=\"" << num(spec.impratio) << "\"/>\n";
+  bool any_mesh = false;
+  for (const ObjectSpec& o : spec.objects) any_mesh = any_mesh || o.shape == "hexagon";
+  if (any_mesh) {
+    x << "  <asset>\n";
+    for (const ObjectSpec& o : spec.objects)
+      if (o.shape == "hexagon") x << hexagonMesh(o.name, o.size * kMm, o.height * kMm);
+    x << "  </asset>\n";
+  }
+  // Object–support friction: MuJoCo takes the larger of the two geoms' coefficients, so the
+  // objects carry none of their own (0) and the support sets μ_s; condim 4 adds torsional
+  // friction, which resists turning on a point-like contact patch.
+  x << "  <worldbody>\n"
+    << "    <geom name=\"support\" type=\"plane\" size=\"2 2 0.01\" condim=\"4\" friction=\""
+    << num(spec.support.friction) << " 0.005 0.0001\"/>\n";
+  for (const ObjectSpec& o : spec.objects) {
+    const double h = o.height * kMm, s = o.size * kMm;
+    x << "    <body name=\"" << o.name << "\" pos=\"" << num(o.x * kMm) << " " << num(o.y * kMm)
+      << " 0\" quat=\"" << quatOf(rotZ(o.yaw)) << "\">\n      <freejoint name=\"" << o.name << "_free\"/>\n";
+    std::string geom;
+    if (o.shape == "square")
+      geom = "type=\"box\" size=\"" + num(s / 2) + " " + num(s / 2) + " " + num(h / 2) + "\" pos=\"0 0 " + num(h / 2) + "\"";
+    else if (o.shape == "circle")
+      geom = "type=\"cylinder\" size=\"" + num(s) + " " + num(h / 2) + "\" pos=\"0 0 " + num(h / 2) + "\"";
+    else
+      geom = "type=\"mesh\" mesh=\"" + o.name + "_mesh\"";
+    x << "      <geom name=\"" << o.name << "\" " << geom << " mass=\"" << num(o.mass)
+      << "\" condim=\"4\" friction=\"0 0 0\"/>\n    </body>\n";
+  }
+  for (const SensorSpec& s : spec.sensors) {
+    // Mocap: moved by the arm, not by forces. contype/conaffinity 0: it touches the objects
+    // through the explicit pairs below only (the gel), never the support.
+    x << "    <body name=\"" << s.name << "\" mocap=\"true\" pos=\""
+      << num(s.initial_pose.translation()[0] * kMm) << " " << num(s.initial_pose.translation()[1] * kMm) << " "
+      << num(s.initial_pose.translation()[2] * kMm) << "\" quat=\"" << quatOf(s.initial_pose.rotationMatrix())
+      << "\">\n      <geom name=\"" << s.name << "\" type=\"sphere\" size=\"" << num(s.tip_radius * kMm)
+      << "\" contype=\"0\" conaffinity=\"0\" rgba=\"0.9 0.9 0.9 1\"/>\n    </body>\n";
+  }
+  x << "  </worldbody>\n";
+  if (!spec.sensors.empty() && !spec.objects.empty()) {
+    x << "  <contact>\n";
+    for (const SensorSpec& s : spec.sensors)
+      for (const ObjectSpec& o : spec.objects) {
+        // The gel: direct-form solref (−K, −B) with K = k_gel (1 − imp) / (imp m) (see top).
+        const double k = s.gel_stiffness / kMm;  // N/m
+        const double K = k * (1 - kGelImpedance) / (kGelImpedance * o.mass);
+        const double B = 2 * s.gel_damping_ratio * std::sqrt(K / (1 - kGelImpedance));
+        x << "    <pair geom1=\"" << s.name << "\" geom2=\"" << o.name << "\" condim=\"4\" friction=\""
+          << num(o.friction) << " " << num(o.friction) << " 0.005 0.0001 0.0001\" solref=\"" << num(-K) << " "
+          << num(-B) << "\" solimp=\"" << num(kGelImpedance) << " " << num(kGelImpedance) << " 0.001\"/>\n";
+      }
+    x << "  </contact>\n";
+  }
+  x << "</mujoco>\n";
+  return x.str();
+}
+
+World::World(const SceneSpec& spec) : spec_(spec), mjcf_(sceneMjcf(spec)) {
+  mjVFS vfs;
+  mj_defaultVFS(&vfs);
+  const char* file = "lieservo_scene.xml";
+  if (mj_makeEmptyFileVFS(&vfs, file, int(mjcf_.size())) != 0) throw SceneError("MuJoCo: cannot hold the scene");
+  std::memcpy(vfs.filedata[mj_findFileVFS(&vfs, file)], mjcf_.data(), mjcf_.size());
+  char error[1024] = "";
+  m_ = mj_loadXML(file, &vfs, error, sizeof error);
+  mj_deleteVFS(&vfs);
+  if (!m_) throw SceneError(std::string("MuJoCo could not load the scene: ") + error);
+  d_ = mj_makeData(m_);
+  if (!d_) {
+    mj_deleteModel(m_);
+    throw SceneError("MuJoCo: out of memory for the scene's data");
+  }
+  for (const ObjectSpec& o : spec_.objects) {
+    const int b = mj_name2id(m_, mjOBJ_BODY, o.name.c_str());
+    object_body_.push_back(b);
+    object_geom_.push_back(mj_name2id(m_, mjOBJ_GEOM, o.name.c_str()));
+    object_qpos_.push_back(m_->jnt_qposadr[m_->body_jntadr[b]]);
+    object_dof_.push_back(m_->jnt_dofadr[m_->body_jntadr[b]]);
+  }
+  for (const SensorSpec& s : spec_.sensors) {
+    const int b = mj_name2id(m_, mjOBJ_BODY, s.name.c_str());
+    sensor_mocap_.push_back(m_->body_mocapid[b]);
+    sensor_geom_.push_back(mj_name2id(m_, mjOBJ_GEOM, s.name.c_str()));
+  }
+  mj_forward(m_, d_);
+}
+
+World::~World() {
+  mj_deleteData(d_);
+  mj_deleteModel(m_);
+}
+
+Status World::step(double dt) noexcept {
+  if (!(dt > 0) || !std::isfinite(dt)) return Status::invalid_time_step;
+  const int n = std::max(1, int(std::lround(dt / m_->opt.timestep)));
+  for (int k = 0; k < n; ++k) mj_step(m_, d_);
+  for (int i = 0; i < m_->nq; ++i)
+    if (!std::isfinite(d_->qpos[i])) return Status::numerical_failure;
+  mj_kinematics(m_, d_);  // geom poses at the new state, for tipGeometry
+  return Status::ok;
+}
+
+double World::time() const noexcept { return d_->time; }
+
+SE3d World::objectPose(int i) const noexcept {
+  const double* q = d_->qpos + object_qpos_[size_t(i)];
+  const Eigen::Quaterniond quat(q[3], q[4], q[5], q[6]);
+  return makePose(quat.normalized().toRotationMatrix(), Vec3(q[0], q[1], q[2]) / kMm);
+}
+
+Vec3 World::objectVelocity(int i) const noexcept {
+  const double* v = d_->qvel + object_dof_[size_t(i)];
+  return Vec3(v[0], v[1], v[2]) / kMm;
+}
+
+double World::objectTilt(int i) const noexcept {
+  const Vec3 z = objectPose(i).rotationMatrix().col(2);
+  return std::acos(std::max(-1.0, std::min(1.0, z[2])));
+}
+
+void World::applyObjectForce(int i, const Vec3& force_w, const Vec3& point_w) noexcept {
+  const int b = object_body_[size_t(i)];
+  const Vec3 p = point_w * kMm;
+  mjtNum* xf = d_->xfrc_applied + 6 * b;
+  std::fill(xf, xf + 6, 0.0);
+  // xfrc_applied is a force and a torque about the body's centre of mass (world frame).
+  const Vec3 com(d_->xipos[3 * b], d_->xipos[3 * b + 1], d_->xipos[3 * b + 2]);
+  const Vec3 torque = (p - com).cross(force_w);
+  std::copy(force_w.data(), force_w.data() + 3, xf);
+  std::copy(torque.data(), torque.data() + 3, xf + 3);
+}
+
+void World::clearForces() noexcept { std::fill(d_->xfrc_applied, d_->xfrc_applied + 6 * m_->nbody, 0.0); }
+
+void World::placeObject(int i, double x, double y, double yaw) noexcept {
+  double* q = d_->qpos + object_qpos_[size_t(i)];
+  const Eigen::Quaterniond quat(rotZ(yaw));
+  q[0] = x * kMm, q[1] = y * kMm, q[2] = 0;
+  q[3] = quat.w(), q[4] = quat.x(), q[5] = quat.y(), q[6] = quat.z();
+  std::fill(d_->qvel + object_dof_[size_t(i)], d_->qvel + object_dof_[size_t(i)] + 6, 0.0);
+  mj_forward(m_, d_);
+}
+
+SE3d World::sensorPose(int s) const noexcept {
+  const int id = sensor_mocap_[size_t(s)];
+  const double* p = d_->mocap_pos + 3 * id;
+  const double* q = d_->mocap_quat + 4 * id;
+  const Eigen::Quaterniond quat(q[0], q[1], q[2], q[3]);
+  return makePose(quat.normalized().toRotationMatrix(), Vec3(p[0], p[1], p[2]) / kMm);
+}
+
+Status World::setSensorPose(int s, const SE3d& X_ws) noexcept {
+  const Status v = validateElement(X_ws);
+  if (v != Status::ok) return v;
+  const int id = sensor_mocap_[size_t(s)];
+  const Vec3 p = X_ws.translation() * kMm;
+  const Eigen::Quaterniond quat(X_ws.rotationMatrix());
+  std::copy(p.data(), p.data() + 3, d_->mocap_pos + 3 * id);
+  const double q[4] = {quat.w(), quat.x(), quat.y(), quat.z()};
+  std::copy(q, q + 4, d_->mocap_quat + 4 * id);
+  mj_kinematics(m_, d_);
+  return Status::ok;
+}
+
+TipGeometry World::tipGeometry(int s, double range) const noexcept {
+  TipGeometry best;
+  const int tip = sensor_geom_[size_t(s)];
+  double best_dist = range * kMm;
+  for (int i = 0; i < objectCount(); ++i) {
+    const int g = object_geom_[size_t(i)];
+    // MuJoCo's collision table is filled for type(g1) ≤ type(g2); its normal points from g1
+    // to g2, so it is the object's outward normal when the object is g1.
+    const bool object_first = m_->geom_type[g] <= m_->geom_type[tip];
+    const int g1 = object_first ? g : tip, g2 = object_first ? tip : g;
+    mjfCollision f = mjCOLLISIONFUNC[m_->geom_type[g1]][m_->geom_type[g2]];
+    if (!f) continue;
+    mjContact con[mjMAXCONPAIR];
+    const int n = f(m_, d_, con, g1, g2, range * kMm);
+    for (int k = 0; k < n; ++k) {
+      if (con[k].dist >= best_dist) continue;
+      best_dist = con[k].dist;
+      Vec3 normal(con[k].frame[0], con[k].frame[1], con[k].frame[2]);
+      if (!object_first) normal = -normal;
+      // con.pos lies midway between the two surfaces: the object's surface point is dist/2
+      // from it, against the outward normal.
+      const Vec3 mid(con[k].pos[0], con[k].pos[1], con[k].pos[2]);
+      best.valid = true;
+      best.object = i;
+      best.normal_w = normal;
+      best.point_w = (mid - 0.5 * con[k].dist * normal) / kMm;
+      best.depth = -con[k].dist / kMm;
+    }
+  }
+  return best;
+}
+
+double World::tipNormalForce(int s) const noexcept {
+  const int tip = sensor_geom_[size_t(s)];
+  double f = 0;
+  for (int k = 0; k < d_->ncon; ++k) {
+    if (d_->contact[k].geom1 != tip && d_->contact[k].geom2 != tip) continue;
+    mjtNum r[6];
+    mj_contactForce(m_, d_, k, r);
+    f += r[0];
+  }
+  return f;
+}
+
+MujocoSensorArm::MujocoSensorArm(World& world, int sensor, const Limits& limits)
+    : world_(&world), sensor_(sensor), limits_(limits) {
+  if (sensor < 0 || sensor >= world.sensorCount()) throw SceneError("MujocoSensorArm: no sensor " + std::to_string(sensor));
+  requirePositive(limits.max_speed, "max_speed");
+  requirePositive(limits.max_angular_speed, "max_angular_speed");
+  requirePositive(limits.max_acceleration, "max_acceleration");
+  requirePositive(limits.max_angular_acceleration, "max_angular_acceleration");
+}
+
+Status MujocoSensorArm::readPose(SE3d& X_ws) {
+  X_ws = world_->sensorPose(sensor_);
+  return Status::ok;
+}
+
+Status MujocoSensorArm::commandVelocity(const SE3d::Tangent& twist_s, double dt) {
+  if (!(dt > 0) || !std::isfinite(dt)) return Status::invalid_time_step;
+  if (!twist_s.allFinite()) return Status::non_finite_input;
+  // Limit the command (norms, direction kept), then move the applied twist towards it.
+  SE3d::Tangent u = twist_s;
+  const double v = u.head<3>().norm(), w = u.tail<3>().norm();
+  if (v > limits_.max_speed) u.head<3>() *= limits_.max_speed / v;
+  if (w > limits_.max_angular_speed) u.tail<3>() *= limits_.max_angular_speed / w;
+  SE3d::Tangent du = u - applied_;
+  const double dv = du.head<3>().norm(), dw = du.tail<3>().norm();
+  if (dv > limits_.max_acceleration * dt) du.head<3>() *= limits_.max_acceleration * dt / dv;
+  if (dw > limits_.max_angular_acceleration * dt) du.tail<3>() *= limits_.max_angular_acceleration * dt / dw;
+  const SE3d::Tangent applied = applied_ + du;
+  const SE3d X = world_->sensorPose(sensor_) * SE3d::exp(applied * dt);  // body twist: right
+  const Status s = world_->setSensorPose(sensor_, X);
+  if (s == Status::ok) applied_ = applied;
+  return s;
+}
+
+Status MujocoSensorArm::moveTo(const SE3d& X_ws) {
+  const Status s = world_->setSensorPose(sensor_, X_ws);
+  if (s == Status::ok) applied_.setZero();
+  return s;
+}
+
+}  // namespace lieservo::sim::mujoco

@@ -1,0 +1,184 @@
+// The MuJoCo world (examples/sim mujoco_world.hpp) against hand calculations: a pushed box
+// slides when the push exceeds μ m g and not before; a tall box topples when pushed above its
+// tipping height and not below; the tip's contact depth and the gel's force per mm; the
+// sensor arm's twist integration; bad scene input named in the error.
+// Bounds are written from the hand calculations before running.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <string>
+
+#include <lieservo_sim/mujoco_world.hpp>
+
+using namespace lieservo::sim;
+using namespace lieservo::sim::mujoco;
+using lieservo::Status;
+
+namespace {
+constexpr double g = 9.81;
+
+SceneSpec oneBox(double support_mu, double side, double height, double mass) {
+  SceneSpec s;
+  s.support = {"test", support_mu};
+  ObjectSpec o;
+  o.name = "box";
+  o.shape = "square";
+  o.size = side;
+  o.height = height;
+  o.mass = mass;
+  s.objects.push_back(o);
+  return s;
+}
+
+// Holds a horizontal force (N, along +x) at height h (mm) on the box's −x face for t seconds.
+void push(World& w, double force, double h, double t) {
+  const double dt = 0.01;
+  for (double time = 0; time < t; time += dt) {
+    const lieservo::SE3<double> X = w.objectPose(0);
+    const Vec3 face = X.rotationMatrix() * Vec3(-w.spec().objects[0].size / 2, 0, h) + X.translation();
+    w.applyObjectForce(0, Vec3(force, 0, 0), face);
+    REQUIRE(w.step(dt) == Status::ok);
+  }
+  w.clearForces();
+}
+}  // namespace
+
+TEST_CASE("mujoco: a box slides when the push exceeds mu m g, and not before", "[sim][mujoco]") {
+  const double mu = 0.35, m = 0.5, side = 100;
+  const double limit = mu * m * g;  // 1.72 N
+  {
+    World w(oneBox(mu, side, 60, m));
+    push(w, 0.8 * limit, 30, 1.0);
+    // Static friction holds: no more than 0.5 mm of creep in 1 s.
+    CHECK(w.objectPose(0).translation().head<2>().norm() < 0.5);
+  }
+  {
+    World w(oneBox(mu, side, 60, m));
+    const double F = 1.5 * limit, t = 0.5;
+    push(w, F, 30, t);
+    // Sliding: x = ½ (F − μ m g)/m t² = 215 mm; within 25 % (contact softness, start-up).
+    const double expected = 0.5 * (F - limit) / m * t * t * 1e3;
+    CHECK(w.objectPose(0).translation()[0] == Approx(expected).epsilon(0.25));
+    CHECK(w.objectTilt(0) < lieservo::sim::deg(2));
+  }
+}
+
+TEST_CASE("mujoco: a tall box topples when pushed above its tipping height, and not below", "[sim][mujoco]") {
+  // Tall red square of the paper: side 75 mm, 120 mm tall, 0.324 kg; support friction high
+  // enough that the box cannot slide under the push (F < μ m g).
+  const double mu = 0.8, m = 0.324, side = 75, height = 120;
+  const double F = 0.6 * mu * m * g;
+  const double h_tip = m * g * side / 2 / F;  // F h = m g w/2: 78 mm
+  {
+    World w(oneBox(mu, side, height, m));
+    push(w, F, 0.75 * h_tip, 1.0);
+    CHECK(w.objectTilt(0) < lieservo::sim::deg(2));
+    CHECK(w.objectPose(0).translation().head<2>().norm() < 1.0);
+  }
+  {
+    World w(oneBox(mu, side, height, m));
+    push(w, F, 1.25 * h_tip, 1.0);
+    REQUIRE(w.step(1.0) == Status::ok);
+    CHECK(w.objectTilt(0) > lieservo::sim::deg(60));  // fallen over
+  }
+}
+
+TEST_CASE("mujoco: tip depth from MuJoCo's geometry, and the gel force per mm", "[sim][mujoco]") {
+  for (const double m : {0.3, 0.6}) {
+    for (const double depth : {1.0, 3.0, 6.0}) {
+      // A box held by friction (μ 2: μ m g ≥ 5.9 N, above the gel force at 6 mm), the tip
+      // pressing its −x face at mid-height.
+      SceneSpec s = oneBox(2.0, 100, 60, m);
+      SensorSpec tip;
+      tip.name = "tip";
+      const double x_tip = -50 - 20 + depth;
+      tip.initial_pose = lieservo::SE3<double>(lieservo::SO3<double>(), Vec3(x_tip, 0, 30));
+      s.sensors.push_back(tip);
+      World w(s);
+      REQUIRE(w.step(1.0) == Status::ok);
+      const TipGeometry geo = w.tipGeometry(0);
+      REQUIRE(geo.valid);
+      CHECK(geo.object == 0);
+      // The −x face of the box at its actual pose (the push tilts it slightly on the soft
+      // support): outward normal n, a point p0 on it. Depth = R − n·(c − p0).
+      const lieservo::SE3<double> X = w.objectPose(0);
+      const Vec3 n = X.rotationMatrix() * Vec3(-1, 0, 0);
+      const Vec3 p0 = X.translation() + X.rotationMatrix() * Vec3(-50, 0, 30);
+      const Vec3 c(x_tip, 0, 30);
+      CHECK(geo.normal_w.isApprox(n, 1e-9));
+      CHECK(geo.depth == Approx(20 - n.dot(c - p0)).margin(1e-6));
+      CHECK(n.dot(geo.point_w - p0) == Approx(0).margin(1e-6));  // on the face
+      // The gel: F/depth = 1 N/mm within 15 % (SensorSpec::gel_stiffness).
+      INFO("mass " << m << " commanded depth " << depth << " measured depth " << geo.depth);
+      CHECK(geo.depth > 0.5 * depth);
+      CHECK(w.tipNormalForce(0) / geo.depth == Approx(tip.gel_stiffness).epsilon(0.15));
+    }
+  }
+}
+
+TEST_CASE("mujoco: the sensor arm integrates the body twist within its limits", "[sim][mujoco]") {
+  SceneSpec s;
+  SensorSpec tip;
+  tip.name = "tip";
+  tip.initial_pose = lieservo::SE3<double>(lieservo::SO3<double>::exp(Vec3(0, 0.5, 0)), Vec3(0, 0, 100));
+  s.sensors.push_back(tip);
+  World w(s);
+  MujocoSensorArm arm(w, 0);
+  lieservo::SE3<double>::Tangent u;
+  u << 10, 0, 0, 0, 0, 0.1;  // mm/s, rad/s: well inside the limits
+  for (int k = 0; k < 100; ++k) REQUIRE(arm.commandVelocity(u, 0.01) == Status::ok);
+  // The acceleration limit ramps the first step: 10 mm/s reached within 0.01 s at 1000 mm/s²,
+  // so after 1 s the pose is X0 exp(u · 1 s) up to the ramp (≤ 0.01 s of motion).
+  lieservo::SE3<double> X;
+  REQUIRE(arm.readPose(X) == Status::ok);
+  const lieservo::SE3<double> expected = tip.initial_pose * lieservo::SE3<double>::exp(u * 1.0);
+  CHECK((X.translation() - expected.translation()).norm() < 0.11);
+  // Limits: 1000 mm/s is clipped to 250 mm/s.
+  u << 1000, 0, 0, 0, 0, 0;
+  for (int k = 0; k < 100; ++k) REQUIRE(arm.commandVelocity(u, 0.01) == Status::ok);
+  CHECK(arm.appliedTwist().head<3>().norm() == Approx(250));
+  // Bad commands change nothing.
+  REQUIRE(arm.readPose(X) == Status::ok);
+  CHECK(arm.commandVelocity(u, 0.0) == Status::invalid_time_step);
+  u[0] = std::nan("");
+  CHECK(arm.commandVelocity(u, 0.01) == Status::non_finite_input);
+  lieservo::SE3<double> X2;
+  REQUIRE(arm.readPose(X2) == Status::ok);
+  CHECK(X2.matrix() == X.matrix());
+}
+
+TEST_CASE("mujoco: bad scene input names the parameter", "[sim][mujoco]") {
+  auto throwsWith = [](const SceneSpec& s, const std::string& what) {
+    try {
+      World w(s);
+    } catch (const SceneError& e) {
+      INFO(e.what());
+      CHECK(std::string(e.what()).find(what) != std::string::npos);
+      return;
+    }
+    FAIL("no SceneError for " << what);
+  };
+  SceneSpec s = oneBox(0.35, 100, 60, 0.5);
+  s.objects[0].size = 0;
+  throwsWith(s, "size");
+  s = oneBox(0.35, 100, 60, -1);
+  throwsWith(s, "mass");
+  s = oneBox(0.35, 100, -60, 0.5);
+  throwsWith(s, "height");
+  s = oneBox(-0.1, 100, 60, 0.5);
+  throwsWith(s, "support friction");
+  s = oneBox(0.35, 100, 60, 0.5);
+  s.objects[0].shape = "teapot";
+  throwsWith(s, "unknown shape 'teapot'");
+  s = oneBox(0.35, 100, 60, 0.5);
+  s.objects[0].friction = -1;
+  throwsWith(s, "friction");
+  s = oneBox(0.35, 100, 60, 0.5);
+  SensorSpec tip;
+  tip.name = "box";
+  s.sensors.push_back(tip);
+  throwsWith(s, "duplicate name 'box'");
+  s.sensors[0].name = "tip";
+  s.sensors[0].initial_pose = lieservo::SE3<double>::fromMatrixUnchecked(2 * Eigen::Matrix4d::Identity());
+  throwsWith(s, "initial_pose");
+}
