@@ -59,7 +59,7 @@ FrankaAdapter::FrankaAdapter(const FrankaAdapterOptions& options) : options_(opt
         options_.robot_ip, options_.enforce_realtime ? franka::RealtimeConfig::kEnforce : franka::RealtimeConfig::kIgnore);
     robot_->setCollisionBehavior(options_.lower_torque, options_.upper_torque, options_.lower_force,
                                  options_.upper_force);
-  } catch (const franka::Exception& e) {
+  } catch (const std::exception& e) {  // franka::Exception, and std::invalid_argument (NaN commands)
     throw std::runtime_error(std::string("FrankaAdapter: cannot set up the robot at ") + options_.robot_ip + ": " +
                              e.what());
   }
@@ -98,7 +98,7 @@ Status FrankaAdapter::readPose(SE3d& X_ws) {
   }
   try {
     O_T_EE = robot_->readOnce().O_T_EE;
-  } catch (const franka::Exception& e) {
+  } catch (const std::exception& e) {  // franka::Exception, and std::invalid_argument (NaN commands)
     std::lock_guard<std::mutex> g(error_mutex_);
     last_error_ = e.what();
     return Status::numerical_failure;
@@ -163,7 +163,7 @@ void FrankaAdapter::velocityLoop() {
           return cmd;
         },
         franka::ControllerMode::kJointImpedance, options_.libfranka_rate_limiter, options_.cutoff_frequency_hz);
-  } catch (const franka::Exception& e) {
+  } catch (const std::exception& e) {  // franka::Exception, and std::invalid_argument (NaN commands)
     faulted_.store(true);
     std::lock_guard<std::mutex> g(error_mutex_);
     last_error_ = e.what();
@@ -188,7 +188,7 @@ Status FrankaAdapter::recover() {
   std::lock_guard<std::mutex> robot_lock(robot_mutex_);
   try {
     robot_->automaticErrorRecovery();
-  } catch (const franka::Exception& e) {
+  } catch (const std::exception& e) {  // franka::Exception, and std::invalid_argument (NaN commands)
     std::lock_guard<std::mutex> g(error_mutex_);
     last_error_ = e.what();
     return Status::numerical_failure;
@@ -262,7 +262,7 @@ Status FrankaAdapter::moveTo(const SE3d& X_ws_goal) {
           return franka::CartesianVelocities(out);
         },
         franka::ControllerMode::kJointImpedance, options_.libfranka_rate_limiter, options_.cutoff_frequency_hz);
-  } catch (const franka::Exception& e) {
+  } catch (const std::exception& e) {  // franka::Exception, and std::invalid_argument (NaN commands)
     faulted_.store(true);
     running_.store(false, std::memory_order_release);
     std::lock_guard<std::mutex> g(error_mutex_);
