@@ -149,12 +149,13 @@ std::string sceneMjcf(const SceneSpec& spec) {
   return x.str();
 }
 
-World::World(const SceneSpec& spec) : spec_(spec), mjcf_(sceneMjcf(spec)) {
+World::World(const SceneSpec& spec) : spec_(spec) {
+  const std::string mjcf = sceneMjcf(spec);
   mjVFS vfs;
   mj_defaultVFS(&vfs);
   const char* file = "lieservo_scene.xml";
-  if (mj_makeEmptyFileVFS(&vfs, file, int(mjcf_.size())) != 0) throw SceneError("MuJoCo: cannot hold the scene");
-  std::memcpy(vfs.filedata[mj_findFileVFS(&vfs, file)], mjcf_.data(), mjcf_.size());
+  if (mj_makeEmptyFileVFS(&vfs, file, int(mjcf.size())) != 0) throw SceneError("MuJoCo: cannot hold the scene");
+  std::memcpy(vfs.filedata[mj_findFileVFS(&vfs, file)], mjcf.data(), mjcf.size());
   char error[1024] = "";
   m_ = mj_loadXML(file, &vfs, error, sizeof error);
   mj_deleteVFS(&vfs);
@@ -194,17 +195,10 @@ Status World::step(double dt) noexcept {
   return Status::ok;
 }
 
-double World::time() const noexcept { return d_->time; }
-
 SE3d World::objectPose(int i) const noexcept {
   const double* q = d_->qpos + object_qpos_[size_t(i)];
   const Eigen::Quaterniond quat(q[3], q[4], q[5], q[6]);
   return makePose(quat.normalized().toRotationMatrix(), Vec3(q[0], q[1], q[2]) / kMm);
-}
-
-Vec3 World::objectVelocity(int i) const noexcept {
-  const double* v = d_->qvel + object_dof_[size_t(i)];
-  return Vec3(v[0], v[1], v[2]) / kMm;
 }
 
 double World::objectTilt(int i) const noexcept {
@@ -225,15 +219,6 @@ void World::applyObjectForce(int i, const Vec3& force_w, const Vec3& point_w) no
 }
 
 void World::clearForces() noexcept { std::fill(d_->xfrc_applied, d_->xfrc_applied + 6 * m_->nbody, 0.0); }
-
-void World::placeObject(int i, double x, double y, double yaw) noexcept {
-  double* q = d_->qpos + object_qpos_[size_t(i)];
-  const Eigen::Quaterniond quat(rotZ(yaw));
-  q[0] = x * kMm, q[1] = y * kMm, q[2] = 0;
-  q[3] = quat.w(), q[4] = quat.x(), q[5] = quat.y(), q[6] = quat.z();
-  std::fill(d_->qvel + object_dof_[size_t(i)], d_->qvel + object_dof_[size_t(i)] + 6, 0.0);
-  mj_forward(m_, d_);
-}
 
 SE3d World::sensorPose(int s) const noexcept {
   const int id = sensor_mocap_[size_t(s)];
@@ -300,13 +285,10 @@ double World::tipNormalForce(int s) const noexcept {
   return f;
 }
 
-MujocoSensorArm::MujocoSensorArm(World& world, int sensor, const Limits& limits)
+MujocoSensorArm::MujocoSensorArm(World& world, int sensor, const ArmLimits& limits)
     : world_(&world), sensor_(sensor), limits_(limits) {
   if (sensor < 0 || sensor >= world.sensorCount()) throw SceneError("MujocoSensorArm: no sensor " + std::to_string(sensor));
-  requirePositive(limits.max_speed, "max_speed");
-  requirePositive(limits.max_angular_speed, "max_angular_speed");
-  requirePositive(limits.max_acceleration, "max_acceleration");
-  requirePositive(limits.max_angular_acceleration, "max_angular_acceleration");
+  limits_.validate();
 }
 
 Status MujocoSensorArm::readPose(SE3d& X_ws) {
@@ -317,16 +299,7 @@ Status MujocoSensorArm::readPose(SE3d& X_ws) {
 Status MujocoSensorArm::commandVelocity(const SE3d::Tangent& twist_s, double dt) {
   if (!(dt > 0) || !std::isfinite(dt)) return Status::invalid_time_step;
   if (!twist_s.allFinite()) return Status::non_finite_input;
-  // Limit the command (norms, direction kept), then move the applied twist towards it.
-  SE3d::Tangent u = twist_s;
-  const double v = u.head<3>().norm(), w = u.tail<3>().norm();
-  if (v > limits_.max_speed) u.head<3>() *= limits_.max_speed / v;
-  if (w > limits_.max_angular_speed) u.tail<3>() *= limits_.max_angular_speed / w;
-  SE3d::Tangent du = u - applied_;
-  const double dv = du.head<3>().norm(), dw = du.tail<3>().norm();
-  if (dv > limits_.max_acceleration * dt) du.head<3>() *= limits_.max_acceleration * dt / dv;
-  if (dw > limits_.max_angular_acceleration * dt) du.tail<3>() *= limits_.max_angular_acceleration * dt / dw;
-  const SE3d::Tangent applied = applied_ + du;
+  const SE3d::Tangent applied = limitTwist(twist_s, applied_, limits_, dt);
   const SE3d X = world_->sensorPose(sensor_) * SE3d::exp(applied * dt);  // body twist: right
   const Status s = world_->setSensorPose(sensor_, X);
   if (s == Status::ok) applied_ = applied;

@@ -29,14 +29,19 @@ static Vec3 capNorm(const Vec3& v, double cap) {
   return n > cap ? Vec3(v * (cap / n)) : v;
 }
 
+lieservo::robot::Twist limitTwist(const lieservo::robot::Twist& target, const lieservo::robot::Twist& applied,
+                                  const ArmLimits& limits, double h) {
+  lieservo::robot::Twist cmd;
+  cmd.head<3>() = capNorm(target.head<3>(), limits.max_linear_speed);
+  cmd.tail<3>() = capNorm(target.tail<3>(), limits.max_angular_speed);
+  lieservo::robot::Twist dv = cmd - applied;
+  dv.head<3>() = capNorm(dv.head<3>(), limits.max_linear_accel * h);
+  dv.tail<3>() = capNorm(dv.tail<3>(), limits.max_angular_accel * h);
+  return applied + dv;
+}
+
 void SimulatedArm::substep(const Twist& target, double h) {
-  Twist cmd;
-  cmd.head<3>() = capNorm(target.head<3>(), limits_.max_linear_speed);
-  cmd.tail<3>() = capNorm(target.tail<3>(), limits_.max_angular_speed);
-  Twist dv = cmd - velocity_;
-  dv.head<3>() = capNorm(dv.head<3>(), limits_.max_linear_accel * h);
-  dv.tail<3>() = capNorm(dv.tail<3>(), limits_.max_angular_accel * h);
-  velocity_ += dv;
+  velocity_ = limitTwist(target, velocity_, limits_, h);
   pose_ = pose_ * SE3d::exp(velocity_ * h);  // body twist: right multiplication
   pose_.normalize();
 }

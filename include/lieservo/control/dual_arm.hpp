@@ -24,6 +24,7 @@
 #include <lieservo/control/tactile_servo_controller.hpp>
 #include <lieservo/estimation/bayes_filter.hpp>
 #include <lieservo/estimation/concentrated_gaussian.hpp>
+#include <lieservo/groups/perturbation.hpp>
 #include <lieservo/groups/se3.hpp>
 #include <lieservo/status.hpp>
 
@@ -84,14 +85,11 @@ class DualArmPushing {
 
   /// Steps both filters and both controllers with the same dt (the filters initialise on
   /// their first step).  Non-finite or non-orthonormal poses: non_finite_input /
-  /// not_orthonormal, and nothing changes.
+  /// not_orthonormal from the filter that checks them, and nothing changes (rolled back).
   Status step(const ArmInput& leader_in, const ArmInput& follower_in, Scalar dt, ArmOutput& leader_out,
               ArmOutput& follower_out) noexcept {
     if (config_status_ != Status::ok) return config_status_;
     if (!(dt > Scalar(0)) || !std::isfinite(dt)) return Status::invalid_time_step;
-    Status check = validateElement(leader_in.sensor_pose);
-    if (check == Status::ok) check = validateElement(follower_in.sensor_pose);
-    if (check != Status::ok) return check;
 
     const Filter leader_filter_backup = leader_filter_;
     const Filter follower_filter_backup = follower_filter_;

@@ -120,7 +120,7 @@ class DiscriminativeBayesFilter {
   /// (and the sensor pose is advanced).
   Status step(const G& sensor_pose, const Gaussian& observation) noexcept {
     if (options_status_ != Status::ok) return diag_.last_status = options_status_;
-    Status s = detail::checkGroupElement(sensor_pose);
+    Status s = validateElement(sensor_pose);
     if (s != Status::ok) return diag_.last_status = s;
     if (!initialised_) return initialise(sensor_pose, observation);
     const G T_bar = sensor_pose.inverse() * sensor_pose_;
@@ -144,7 +144,7 @@ class DiscriminativeBayesFilter {
   Status predict(const G& T_bar) noexcept {
     if (options_status_ != Status::ok) return diag_.last_status = options_status_;
     if (!initialised_) return diag_.last_status = Status::not_initialised;
-    Status s = detail::checkGroupElement(T_bar);
+    Status s = validateElement(T_bar);
     if (s != Status::ok) return diag_.last_status = s;
     Gaussian bel;
     Jacobian L_bel;
@@ -186,13 +186,11 @@ class DiscriminativeBayesFilter {
     belief_ = Gaussian();
     filtered_ = Gaussian();
     sensor_pose_ = G();
-    const Scalar thr = diag_.gate_threshold;
-    diag_ = Diagnostics();
-    diag_.gate_threshold = thr;
+    clearDiagnostics();
   }
 
  private:
-  // Initialisation of alg:se3_bayes_filter: fil_0 = bel_0 = obs_0. The sensor pose is checked.
+  // Initialisation of alg:se3_bayes_filter: fil_0 = bel_0 = obs_0 (step() checked the pose).
   Status initialise(const G& sensor_pose, const Gaussian& first_observation) noexcept {
     const Status s = first_observation.validate();
     if (s != Status::ok) return diag_.last_status = s;
@@ -201,15 +199,20 @@ class DiscriminativeBayesFilter {
     filtered_ = belief_;
     sensor_pose_ = sensor_pose;
     initialised_ = true;
-    const Scalar thr = diag_.gate_threshold;
-    diag_ = Diagnostics();
-    diag_.gate_threshold = thr;
+    clearDiagnostics();
     diag_.corrections = 1;
     return diag_.last_status = Status::ok;
   }
 
-  // The state is valid at all times (reset validates it, fuse checks what it returns) and the
-  // options were validated by setOptions, so the step checks only what comes from outside: the
+  // Fresh diagnostics; the gate threshold belongs to the options and stays.
+  void clearDiagnostics() noexcept {
+    const Scalar thr = diag_.gate_threshold;
+    diag_ = Diagnostics();
+    diag_.gate_threshold = thr;
+  }
+
+  // The state is valid at all times (initialise validates it, fuse checks what it returns) and
+  // the options were validated by configure, so the step checks only what comes from outside: the
   // sensor pose and the observation. T̄ is a product of valid elements. Each covariance is
   // factorised once per step and its Cholesky factor handed on to the fusion.
   Status predictInto(const Gaussian& fil, const G& T_bar, Gaussian& bel,
@@ -226,7 +229,7 @@ class DiscriminativeBayesFilter {
 
   Status correctInto(const Gaussian& bel, const Jacobian& L_bel, const Gaussian& obs,
                      Gaussian& fil, Diagnostics& d) const noexcept {
-    Status s = detail::checkGroupElement(obs.mean);
+    Status s = validateElement(obs.mean);
     if (s != Status::ok) return s;
     Jacobian L_obs;
     s = detail::choleskyChecked(obs.covariance, L_obs);

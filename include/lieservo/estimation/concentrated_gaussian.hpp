@@ -61,7 +61,7 @@ Status checkCovariance(const Mat& S) noexcept {
 
 template <class G>
 Status validate(const ConcentratedGaussian<G>& x) noexcept {
-  const Status s = detail::checkGroupElement(x.mean);
+  const Status s = validateElement(x.mean);
   if (s != Status::ok) return s;
   return detail::checkSpd(x.covariance);
 }
@@ -95,7 +95,7 @@ Status transform(const ConcentratedGaussian<G>& x, const G& T_bar,
                  const typename G::Jacobian& Sigma_phi, ConcentratedGaussian<G>& out) noexcept {
   Status s = validate(x);
   if (s != Status::ok) return s;
-  s = detail::checkGroupElement(T_bar);
+  s = validateElement(T_bar);
   if (s != Status::ok) return s;
   s = detail::checkPsd(Sigma_phi);
   if (s != Status::ok) return s;
@@ -195,8 +195,8 @@ Status toTangentGaussian(const ConcentratedGaussian<G>& x, typename G::Tangent& 
 template <class G>
 Status mahalanobisSquared(const ConcentratedGaussian<G>& x, const G& X,
                           typename G::Scalar& d2) noexcept {
-  Status s = detail::checkGroupElement(x.mean);
-  if (s == Status::ok) s = detail::checkGroupElement(X);
+  Status s = validateElement(x.mean);
+  if (s == Status::ok) s = validateElement(X);
   if (s != Status::ok) return s;
   typename G::Jacobian L;
   s = detail::choleskyChecked(x.covariance, L);

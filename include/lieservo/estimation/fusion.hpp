@@ -282,7 +282,7 @@ Status fuse(const ConcentratedGaussian<G>* factors, int count,
   typename G::Jacobian L[kMaxFusionFactors];
   G means[kMaxFusionFactors];
   for (int i = 0; i < count; ++i) {
-    Status s = detail::checkGroupElement(factors[i].mean);
+    Status s = validateElement(factors[i].mean);
     if (s != Status::ok) return s;
     s = detail::choleskyChecked(factors[i].covariance, L[i]);
     if (s != Status::ok) return s;

@@ -19,7 +19,6 @@
 // impratio (no creeping slip) and condim 4 (torsional friction, the twist γ).
 #pragma once
 
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -27,6 +26,7 @@
 
 #include "common.hpp"
 #include "robot_interface.hpp"
+#include "simulated_arm.hpp"
 
 struct mjModel_;
 struct mjData_;
@@ -60,11 +60,12 @@ struct SensorSpec {
   std::string name = "sensor";
   double tip_radius = 20;  ///< mm: hemispherical tip of the 40 mm TacTip
   /// N/mm: normal force per mm of contact depth. A soft silicone-gel tip of radius R pressed
-  /// to depth d gives F = (4/3) E* sqrt(R) d^(3/2) (Hertz); with the gel's E* ≈ 0.1 MPa
-  /// (Shore 00 silicone) and R = 20 mm that is ≈ 0.6 N/mm at 1 mm and 1.5 N/mm at 6 mm; the
+  /// to depth d gives F = (4/3) E* sqrt(R) d^(3/2) (Hertz); with an assumed E* ≈ 0.1 MPa (a
+  /// soft silicone gel) and R = 20 mm that is ≈ 0.6 N/mm at 1 mm and 1.5 N/mm at 6 mm; the
   /// linear 1 N/mm used here sits between them (0–6 N over the 0–6 mm depth range).
   double gel_stiffness = 1.0;
-  double gel_damping_ratio = 1.0;  ///< critically damped against a 0.5 kg object
+  /// ζ of the gel contact: the direct-form damping is B = 2ζ sqrt(K / (1 − imp)).
+  double gel_damping_ratio = 1.0;
   SE3d initial_pose = SE3d::identity();  ///< X_ws (mm)
 };
 
@@ -101,20 +102,15 @@ class World {
   /// Advances the physics by dt (a whole number of MuJoCo steps, at least one). Never throws;
   /// dt ≤ 0 or non-finite → invalid_time_step; a non-finite state → numerical_failure.
   Status step(double dt) noexcept;
-  double time() const noexcept;
 
   /// X_wo of object i (mm): the frame at the centre of its base, z up.
   SE3d objectPose(int i) const noexcept;
-  /// Linear velocity of object i's base centre (mm/s).
-  Vec3 objectVelocity(int i) const noexcept;
   /// Tilt of object i's axis from the support normal (rad): toppling shows here.
   double objectTilt(int i) const noexcept;
   /// An external force F (N, work frame) on object i at point p (mm, work frame), held until
   /// changed (clearForces): a disturbance, or a known push for checks against hand calculations.
   void applyObjectForce(int i, const Vec3& force_w, const Vec3& point_w) noexcept;
   void clearForces() noexcept;
-  /// Places object i (mm, yaw in rad), at rest.
-  void placeObject(int i, double x, double y, double yaw) noexcept;
 
   SE3d sensorPose(int s) const noexcept;
   /// Moves sensor s (a mocap body) to X_ws; refuses a non-finite or non-orthonormal pose.
@@ -128,12 +124,9 @@ class World {
   int objectCount() const noexcept { return int(spec_.objects.size()); }
   int sensorCount() const noexcept { return int(spec_.sensors.size()); }
   const SceneSpec& spec() const noexcept { return spec_; }
-  /// The generated MJCF (for inspection and the docs).
-  const std::string& mjcf() const noexcept { return mjcf_; }
 
  private:
   SceneSpec spec_;
-  std::string mjcf_;
   mjModel_* m_ = nullptr;
   mjData_* d_ = nullptr;
   std::vector<int> object_body_, object_geom_, object_qpos_, object_dof_;
@@ -145,16 +138,10 @@ std::string sceneMjcf(const SceneSpec& spec);
 
 /// A sensor of a World driven as a robot: RobotInterface's commanded body twist in {s} moves
 /// the sensor's mocap body, X_ws ← X_ws exp(u dt), within speed and acceleration limits.
+/// The limits are the kinematic arm's (ArmLimits, limitTwist); its `substeps` is not used here.
 class MujocoSensorArm final : public lieservo::robot::RobotInterface {
  public:
-  struct Limits {
-    double max_speed = 250;            ///< mm/s
-    double max_angular_speed = deg(90);  ///< rad/s
-    double max_acceleration = 1000;    ///< mm/s²
-    double max_angular_acceleration = deg(360);  ///< rad/s²
-  };
-  MujocoSensorArm(World& world, int sensor, const Limits& limits);
-  MujocoSensorArm(World& world, int sensor) : MujocoSensorArm(world, sensor, Limits()) {}
+  MujocoSensorArm(World& world, int sensor, const ArmLimits& limits = {});
 
   Status readPose(SE3d& X_ws) override;
   /// Moves the sensor for dt under the limits (the world is stepped by the caller).
@@ -166,7 +153,7 @@ class MujocoSensorArm final : public lieservo::robot::RobotInterface {
  private:
   World* world_;
   int sensor_;
-  Limits limits_;
+  ArmLimits limits_;
   SE3d::Tangent applied_ = SE3d::Tangent::Zero();
 };
 

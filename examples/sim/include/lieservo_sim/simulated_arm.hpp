@@ -25,6 +25,11 @@ struct ArmLimits {
   void validate() const;  ///< throws SceneError
 };
 
+/// One integration step's applied twist: `target` capped at the speed limits (norms, direction
+/// kept), reached from `applied` no faster than the acceleration limits allow over h seconds.
+lieservo::robot::Twist limitTwist(const lieservo::robot::Twist& target, const lieservo::robot::Twist& applied,
+                                  const ArmLimits& limits, double h);
+
 class SimulatedArm final : public lieservo::robot::RobotInterface {
  public:
   using Twist = lieservo::robot::Twist;

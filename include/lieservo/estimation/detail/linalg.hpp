@@ -199,11 +199,5 @@ Status repairSpd(Mat& S, Mat* chol = nullptr) noexcept {
   return Status::ok;
 }
 
-/// Checks a group element: finite, orthonormal rotation with det +1 (lieservo::validateElement).
-template <class G>
-Status checkGroupElement(const G& X) noexcept {
-  return validateElement(X);
-}
-
 }  // namespace detail
 }  // namespace lieservo
