@@ -108,11 +108,58 @@ TEST_CASE("mujoco: tip depth from MuJoCo's geometry, and the gel force per mm", 
       CHECK(geo.normal_w.isApprox(n, 1e-9));
       CHECK(geo.depth == Approx(20 - n.dot(c - p0)).margin(1e-6));
       CHECK(n.dot(geo.point_w - p0) == Approx(0).margin(1e-6));  // on the face
-      // The gel: F/depth = 1 N/mm within 15 % (SensorSpec::gel_stiffness).
+      // The gel: F/depth = 1 N/mm within 15 % (SensorSpec::gel_stiffness), whatever the mass.
       INFO("mass " << m << " commanded depth " << depth << " measured depth " << geo.depth);
       CHECK(geo.depth > 0.5 * depth);
       CHECK(w.tipNormalForce(0) / geo.depth == Approx(tip.gel_stiffness).epsilon(0.15));
     }
+  }
+}
+
+TEST_CASE("mujoco: tip geometry on every object shape (box, rectangle, cylinder, hexagon mesh)", "[sim][mujoco]") {
+  // A sensor whose axis points at the object's +x side at 35 mm height, its nominal tip 2 mm
+  // inside the surface. The reported point must lie on that side (box faces and the hexagon's
+  // face are at x = half extent; the cylinder's side at radius r), the normal along +x and
+  // depth = R − distance of the tip centre from that point. Bounds: 1e-3 mm; the normal to
+  // 1e-9 for boxes (MuJoCo's analytic sphere–box) and 1e-4 rad for the cylinder and the mesh,
+  // which go through MuJoCo's iterative convex collider (MPR, run to 1e-10 m here; the mesh's
+  // normal came out 1.7e-5 rad off).
+  struct Shape {
+    const char* name;
+    const char* shape;
+    double size, size2;
+  };
+  for (const Shape& sh : {Shape{"box", "square", 100, 0}, Shape{"rect", "rectangle", 58, 95},
+                          Shape{"cyl", "circle", 37, 0}, Shape{"hex", "hexagon", 50, 0}}) {
+    SceneSpec s;
+    s.support = {"test", 2.0};
+    ObjectSpec o;
+    o.name = sh.name;
+    o.shape = sh.shape;
+    o.size = sh.size;
+    o.size2 = sh.size2;
+    o.height = 80;
+    o.mass = 0.4;
+    s.objects.push_back(o);
+    const double a = halfExtentX(o);
+    SensorSpec tip;
+    tip.name = "tip";
+    const double depth = 2.0;
+    // z_s along −x (into the +x side), x_s up, y_s = z_s × x_s.
+    tip.initial_pose = makePose(fromColumns(Vec3::UnitZ(), -Vec3::UnitX().cross(Vec3::UnitZ()), -Vec3::UnitX()),
+                                Vec3(a + 20 - depth, 0, 35));
+    s.sensors.push_back(tip);
+    World w(s);
+    const TipGeometry geo = w.tipGeometry(0);  // before any step: the object is where it was put
+    INFO(sh.shape);
+    REQUIRE(geo.valid);
+    INFO("normal " << geo.normal_w.transpose());
+    const bool analytic = std::string(sh.shape) == "square" || std::string(sh.shape) == "rectangle";
+    CHECK((geo.normal_w - Vec3::UnitX()).norm() < (analytic ? 1e-9 : 1e-4));
+    CHECK(geo.point_w.x() == Approx(a).margin(1e-3));
+    CHECK(geo.point_w.y() == Approx(0).margin(1e-3));
+    CHECK(geo.point_w.z() == Approx(35).margin(1e-3));
+    CHECK(geo.depth == Approx(depth).margin(1e-3));
   }
 }
 
@@ -170,6 +217,8 @@ TEST_CASE("mujoco: bad scene input names the parameter", "[sim][mujoco]") {
   s = oneBox(0.35, 100, 60, 0.5);
   s.objects[0].shape = "teapot";
   throwsWith(s, "unknown shape 'teapot'");
+  s.objects[0].shape = "rectangle";  // needs its second side
+  throwsWith(s, "size2");
   s = oneBox(0.35, 100, 60, 0.5);
   s.objects[0].friction = -1;
   throwsWith(s, "friction");

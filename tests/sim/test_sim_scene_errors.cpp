@@ -54,7 +54,7 @@ TEST_CASE("scene errors: contact, arm, observation, task options", "[sim][errors
 TEST_CASE("scene errors: pushing set-up", "[sim][errors]") {
   PushingSetup s;
   s.object = shortObjects()[0];
-  s.surface = mdfSurface();
+  s.surface = SupportSpec::mdf();
   s.sensor_height = 100;  // above the 60 mm prism
   CHECK_THROWS_WITH(s.validate(), Contains("sensor_height"));
   s.sensor_height = 45;

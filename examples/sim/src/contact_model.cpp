@@ -15,12 +15,15 @@ void ContactParams::validate() const {
   if (min_slip_radius > max_slip_radius)
     throw SceneError("ContactParams.min_slip_radius must be <= max_slip_radius");
   if (max_twist >= kPi / 2) throw SceneError("ContactParams.max_twist must be < 90 deg");
+  requireNonNegative(skin_friction, "ContactParams.skin_friction");
 }
 
 ContactModel::ContactModel(const Surface& surface, const ContactParams& params)
     : surface_(&surface), params_(params) {
   params_.validate();
 }
+
+ContactModel::ContactModel(const ContactParams& params) : params_(params) { params_.validate(); }
 
 double ContactModel::slipRadius(double depth) const {
   return std::clamp(params_.slip_radius_per_depth * depth, params_.min_slip_radius, params_.max_slip_radius);
@@ -69,6 +72,7 @@ ContactState ContactModel::evaluate(const SE3d& X_ws, const SE3d& X_wo, const An
 }
 
 ContactState ContactModel::peek(const SE3d& X_ws, const SE3d& X_wo) const {
+  if (!surface_) return {};
   const SE3d X_os = X_wo.inverse() * X_ws;
   const SurfacePoint sp = surface_->closest(X_os.translation());
   const Anchor a = anchored_ ? anchor_ : newAnchor(sp, X_os);
@@ -76,8 +80,12 @@ ContactState ContactModel::peek(const SE3d& X_ws, const SE3d& X_wo) const {
 }
 
 ContactState ContactModel::update(const SE3d& X_ws, const SE3d& X_wo) {
+  if (!surface_) return {};
+  return update(X_ws, X_wo, surface_->closest(X_wo.inverse() * X_ws.translation()));
+}
+
+ContactState ContactModel::update(const SE3d& X_ws, const SE3d& X_wo, const SurfacePoint& sp) {
   const SE3d X_os = X_wo.inverse() * X_ws;
-  const SurfacePoint sp = surface_->closest(X_os.translation());
   const double depth = params_.tip_radius - sp.signed_distance;
   if (depth <= 0) {
     anchored_ = false;
@@ -99,7 +107,7 @@ ContactState ContactModel::update(const SE3d& X_ws, const SE3d& X_wo) {
     const Vec3 yf = zf.cross(xf);
     const double f = 1.0 - rs / r;
     const Vec3 p_new = anchor_.p + f * (st.shear.x() * xf + st.shear.y() * yf);
-    anchor_.p = surface_->closest(p_new).point;  // stay on the surface
+    anchor_.p = surface_ ? surface_->closest(p_new).point : p_new;  // stay on the surface
     slipped = true;
   }
   // Rotational slip about the normal: |γ| ≤ γ_max.

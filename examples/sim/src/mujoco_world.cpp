@@ -16,13 +16,17 @@ namespace {
 
 constexpr double kMm = 1e-3;  // mm → m
 constexpr double kGravity = 9.81;
-// Constant impedance of the gel contact (solimp d0 = d_width = 0.9): with MuJoCo's soft
-// constraints the quasi-static normal force is then F ≈ K · m · imp/(1 − imp) · depth for a
-// direct-form stiffness K and an object of mass m, so K = k_gel (1 − imp) / (imp m) gives the
-// gel's N/mm slope (measured by test_sim_mujoco: "tip depth against force").
-constexpr double kGelImpedance = 0.9;
+// The gel: the tip is a light body on three slide joints (the sensor frame's axes) with
+// spring stiffness k_gel, behind the arm's nominal tip (the mocap body). A push of F on the
+// tip deflects it by F/k_gel whatever the object's mass or inertia; the tip–object contact
+// itself is stiff (penetration ≈ 0.03 mm per N: kContactSolref, kContactSolimp). The tip's mass sets the gel's
+// natural frequency sqrt(k/m) (316 rad/s at 1 N/mm: ω dt = 0.8 at the 2.5 ms step, stable under
+// MuJoCo's semi-implicit Euler) and a sag under gravity of m g / k (0.1 mm).
+constexpr double kTipMass = 0.01;  // kg
+constexpr const char* kContactSolref = "0.005 1";  // s, damping ratio: a stiff contact
+constexpr const char* kContactSolimp = "0.99 0.99 0.001";  // constant impedance near 1: stiff
 
-const char* const kShapes[] = {"square", "circle", "hexagon"};
+const char* const kShapes[] = {"square", "rectangle", "circle", "hexagon"};
 
 std::string num(double v) {
   std::ostringstream s;
@@ -44,12 +48,13 @@ void requireName(const std::string& n, const char* what) {
       throw SceneError(std::string(what) + " name '" + n + "' may hold letters, digits and '_' only");
 }
 
-// The regular hexagon as a convex mesh (circumradius r, height h, metres), base at z = 0.
+// The regular hexagon as a convex mesh (circumradius r, height h, metres), base at z = 0, with
+// a face normal to +x (vertices at 30° + k 60°), as the square's.
 std::string hexagonMesh(const std::string& name, double r, double h) {
   std::string v;
   for (int z = 0; z < 2; ++z)
     for (int k = 0; k < 6; ++k) {
-      const double a = k * kPi / 3;
+      const double a = kPi / 6 + k * kPi / 3;
       v += num(r * std::cos(a)) + " " + num(r * std::sin(a)) + " " + num(z * h) + " ";
     }
   return "    <mesh name=\"" + name + "_mesh\" vertex=\"" + v + "\"/>\n";
@@ -67,9 +72,10 @@ void SceneSpec::validate() const {
     if (!names.insert(o.name).second) throw SceneError("duplicate name '" + o.name + "'");
     if (std::find(std::begin(kShapes), std::end(kShapes), o.shape) == std::end(kShapes))
       throw SceneError("object '" + o.name + "': unknown shape '" + o.shape +
-                       "' (square, circle or hexagon)");
+                       "' (square, rectangle, circle or hexagon)");
     const std::string p = "object '" + o.name + "' ";
     requirePositive(o.size, (p + "size").c_str());
+    if (o.shape == "rectangle") requirePositive(o.size2, (p + "size2").c_str());
     requirePositive(o.height, (p + "height").c_str());
     requirePositive(o.mass, (p + "mass").c_str());
     requireNonNegative(o.friction, (p + "friction").c_str());
@@ -92,7 +98,8 @@ std::string sceneMjcf(const SceneSpec& spec) {
   std::ostringstream x;
   x << "<mujoco model=\"lieservo_scene\">\n"
     << "  <option timestep=\"" << num(spec.timestep) << "\" gravity=\"0 0 " << num(-kGravity)
-    << "\" cone=\"elliptic\" impratio=\"" << num(spec.impratio) << "\"/>\n";
+    << "\" cone=\"elliptic\" impratio=\"" << num(spec.impratio)
+    << "\" mpr_tolerance=\"1e-10\" mpr_iterations=\"100\"/>\n";  // the convex collider (cylinder, mesh) to 0.1 nm
   bool any_mesh = false;
   for (const ObjectSpec& o : spec.objects) any_mesh = any_mesh || o.shape == "hexagon";
   if (any_mesh) {
@@ -112,8 +119,9 @@ std::string sceneMjcf(const SceneSpec& spec) {
     x << "    <body name=\"" << o.name << "\" pos=\"" << num(o.x * kMm) << " " << num(o.y * kMm)
       << " 0\" quat=\"" << quatOf(rotZ(o.yaw)) << "\">\n      <freejoint name=\"" << o.name << "_free\"/>\n";
     std::string geom;
-    if (o.shape == "square")
-      geom = "type=\"box\" size=\"" + num(s / 2) + " " + num(s / 2) + " " + num(h / 2) + "\" pos=\"0 0 " + num(h / 2) + "\"";
+    if (o.shape == "square" || o.shape == "rectangle")
+      geom = "type=\"box\" size=\"" + num(s / 2) + " " + num((o.shape == "square" ? s : o.size2 * kMm) / 2) + " " +
+             num(h / 2) + "\" pos=\"0 0 " + num(h / 2) + "\"";
     else if (o.shape == "circle")
       geom = "type=\"cylinder\" size=\"" + num(s) + " " + num(h / 2) + "\" pos=\"0 0 " + num(h / 2) + "\"";
     else
@@ -122,31 +130,53 @@ std::string sceneMjcf(const SceneSpec& spec) {
       << "\" condim=\"4\" friction=\"0 0 0\"/>\n    </body>\n";
   }
   for (const SensorSpec& s : spec.sensors) {
-    // Mocap: moved by the arm, not by forces. contype/conaffinity 0: it touches the objects
-    // through the explicit pairs below only (the gel), never the support.
+    // The arm's nominal tip: a mocap body, moved by the arm, not by forces; its "probe" sphere
+    // touches nothing (contype/conaffinity 0, no pairs) and gives the tactile depth
+    // (tipGeometry). The gel carries the tip body (see kTipMass); the tip touches the objects
+    // through the explicit pairs below only, never the support.
+    const double k = s.gel_stiffness / kMm;  // N/m
+    const double b = 2 * s.gel_damping_ratio * std::sqrt(k * kTipMass);
     x << "    <body name=\"" << s.name << "\" mocap=\"true\" pos=\""
       << num(s.initial_pose.translation()[0] * kMm) << " " << num(s.initial_pose.translation()[1] * kMm) << " "
       << num(s.initial_pose.translation()[2] * kMm) << "\" quat=\"" << quatOf(s.initial_pose.rotationMatrix())
-      << "\">\n      <geom name=\"" << s.name << "\" type=\"sphere\" size=\"" << num(s.tip_radius * kMm)
-      << "\" contype=\"0\" conaffinity=\"0\" rgba=\"0.9 0.9 0.9 1\"/>\n    </body>\n";
+      << "\">\n      <geom name=\"" << s.name << "_probe\" type=\"sphere\" size=\"" << num(s.tip_radius * kMm)
+      << "\" contype=\"0\" conaffinity=\"0\" rgba=\"0 0 0 0\"/>\n      <body name=\"" << s.name << "_tip\">\n";
+    for (const char* axis : {"1 0 0", "0 1 0", "0 0 1"})
+      x << "        <joint type=\"slide\" axis=\"" << axis << "\" stiffness=\"" << num(k) << "\" damping=\"" << num(b)
+        << "\"/>\n";
+    x << "        <geom name=\"" << s.name << "\" type=\"sphere\" size=\"" << num(s.tip_radius * kMm) << "\" mass=\""
+      << num(kTipMass) << "\" contype=\"0\" conaffinity=\"0\" rgba=\"0.9 0.9 0.9 1\"/>\n      </body>\n    </body>\n";
   }
   x << "  </worldbody>\n";
   if (!spec.sensors.empty() && !spec.objects.empty()) {
     x << "  <contact>\n";
     for (const SensorSpec& s : spec.sensors)
       for (const ObjectSpec& o : spec.objects) {
-        // The gel: direct-form solref (−K, −B) with K = k_gel (1 − imp) / (imp m) (see top).
-        const double k = s.gel_stiffness / kMm;  // N/m
-        const double K = k * (1 - kGelImpedance) / (kGelImpedance * o.mass);
-        const double B = 2 * s.gel_damping_ratio * std::sqrt(K / (1 - kGelImpedance));
         x << "    <pair geom1=\"" << s.name << "\" geom2=\"" << o.name << "\" condim=\"4\" friction=\""
-          << num(o.friction) << " " << num(o.friction) << " 0.005 0.0001 0.0001\" solref=\"" << num(-K) << " "
-          << num(-B) << "\" solimp=\"" << num(kGelImpedance) << " " << num(kGelImpedance) << " 0.001\"/>\n";
+          << num(o.friction) << " " << num(o.friction) << " 0.005 0.0001 0.0001\" solref=\"" << kContactSolref
+          << "\" solimp=\"" << kContactSolimp << "\"/>\n";
       }
     x << "  </contact>\n";
   }
   x << "</mujoco>\n";
   return x.str();
+}
+
+std::vector<Vec2> footprint(const ObjectSpec& o) {
+  std::vector<Vec2> v;
+  if (o.shape == "square" || o.shape == "rectangle") {
+    const double a = o.size / 2, b = (o.shape == "square" ? o.size : o.size2) / 2;
+    return {{a, b}, {-a, b}, {-a, -b}, {a, -b}};
+  }
+  const int n = o.shape == "circle" ? 48 : 6;
+  const double a0 = o.shape == "hexagon" ? kPi / 6 : 0.0;  // as hexagonMesh
+  for (int k = 0; k < n; ++k) v.emplace_back(o.size * std::cos(a0 + 2 * kPi * k / n), o.size * std::sin(a0 + 2 * kPi * k / n));
+  return v;
+}
+
+double halfExtentX(const ObjectSpec& o) {
+  if (o.shape == "hexagon") return o.size * std::cos(kPi / 6);  // apothem: a face is normal to +x
+  return o.shape == "circle" ? o.size : o.size / 2;
 }
 
 World::World(const SceneSpec& spec) : spec_(spec) {
@@ -176,6 +206,7 @@ World::World(const SceneSpec& spec) : spec_(spec) {
     const int b = mj_name2id(m_, mjOBJ_BODY, s.name.c_str());
     sensor_mocap_.push_back(m_->body_mocapid[b]);
     sensor_geom_.push_back(mj_name2id(m_, mjOBJ_GEOM, s.name.c_str()));
+    sensor_probe_.push_back(mj_name2id(m_, mjOBJ_GEOM, (s.name + "_probe").c_str()));
   }
   mj_forward(m_, d_);
 }
@@ -243,7 +274,7 @@ Status World::setSensorPose(int s, const SE3d& X_ws) noexcept {
 
 TipGeometry World::tipGeometry(int s, double range) const noexcept {
   TipGeometry best;
-  const int tip = sensor_geom_[size_t(s)];
+  const int tip = sensor_probe_[size_t(s)];  // the nominal tip: depth = the gel's deformation
   double best_dist = range * kMm;
   for (int i = 0; i < objectCount(); ++i) {
     const int g = object_geom_[size_t(i)];
@@ -260,13 +291,13 @@ TipGeometry World::tipGeometry(int s, double range) const noexcept {
       best_dist = con[k].dist;
       Vec3 normal(con[k].frame[0], con[k].frame[1], con[k].frame[2]);
       if (!object_first) normal = -normal;
-      // con.pos lies midway between the two surfaces: the object's surface point is dist/2
-      // from it, against the outward normal.
-      const Vec3 mid(con[k].pos[0], con[k].pos[1], con[k].pos[2]);
+      // The object's surface point: from the tip centre c, back along the normal by the
+      // distance R − depth (con.pos is not reliably midway for the general convex collider).
+      const Vec3 c(d_->geom_xpos[3 * tip], d_->geom_xpos[3 * tip + 1], d_->geom_xpos[3 * tip + 2]);
       best.valid = true;
       best.object = i;
       best.normal_w = normal;
-      best.point_w = (mid - 0.5 * con[k].dist * normal) / kMm;
+      best.point_w = (c - (m_->geom_size[3 * tip] + con[k].dist) * normal) / kMm;
       best.depth = -con[k].dist / kMm;
     }
   }

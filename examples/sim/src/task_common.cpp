@@ -31,36 +31,49 @@ void Stat::finish() {
   rms = std::sqrt(rms / double(n));
 }
 
-// Foam: higher support friction, pressure spread evenly (the object beds into the foam).
-// MDF: lower support friction, pressure towards the rim of a hard, slightly uneven base.
-// Pusher-object friction is that of the same skin on the same prisms in both settings.
-SupportSurface foamSurface() { return {"foam", 0.6, 1.0, 0.25, 0.75}; }
-SupportSurface mdfSurface() { return {"MDF", 0.35, 1.25, 0.25, 0.75}; }
-
-std::vector<PushObject> shortObjects() {
-  return {{"blue square", "square", 100, 60, 0.479},
-          {"blue circle", "circle", 50, 60, 0.363},
-          {"red square", "square", 75, 60, 0.264},
-          {"yellow hexagon", "hexagon", 50, 60, 0.310}};
+// The paper's prisms (Figures 8–9: masses; sizes: side, radius, circumradius) and tall
+// everyday-like objects built from primitives. The everyday objects' sizes approximate the
+// YCB objects the paper used (mustard bottle, coffee tin) and a wine bottle; their masses are
+// the paper's (Figure 9).
+std::vector<ObjectSpec> shortObjects() {
+  auto prism = [](const char* name, const char* shape, double size, double mass) {
+    ObjectSpec o;
+    o.name = name, o.shape = shape, o.size = size, o.height = 60, o.mass = mass;
+    return o;
+  };
+  return {prism("blue_square", "square", 100, 0.479), prism("blue_circle", "circle", 50, 0.363),
+          prism("red_square", "square", 75, 0.264), prism("yellow_hexagon", "hexagon", 50, 0.310)};
 }
-std::vector<PushObject> tallObjects() {
-  return {{"tall blue square", "square", 100, 120, 0.566},
-          {"tall blue circle", "circle", 50, 120, 0.436},
-          {"tall red square", "square", 75, 120, 0.324},
-          {"tall yellow hexagon", "hexagon", 50, 120, 0.373}};
+std::vector<ObjectSpec> tallObjects() {
+  std::vector<ObjectSpec> v = shortObjects();
+  const double mass[] = {0.566, 0.436, 0.324, 0.373};
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    v[i].name = "tall_" + v[i].name;
+    v[i].height = 120;
+    v[i].mass = mass[i];
+  }
+  return v;
+}
+std::vector<ObjectSpec> everydayObjects() {
+  ObjectSpec mustard, glass, tin;
+  mustard.name = "mustard_bottle", mustard.shape = "rectangle", mustard.size = 58, mustard.size2 = 95;
+  mustard.height = 190, mustard.mass = 0.237;
+  glass.name = "glass_bottle", glass.shape = "circle", glass.size = 37, glass.height = 290, glass.mass = 0.641;
+  tin.name = "coffee_tin", tin.shape = "circle", tin.size = 55, tin.height = 160, tin.mass = 0.214;
+  return {mustard, glass, tin};
+}
+std::string displayName(const ObjectSpec& o) {
+  std::string n = o.name;
+  std::replace(n.begin(), n.end(), '_', ' ');
+  return n;
 }
 
 void PushingSetup::validate() const {
-  requirePositive(object.size, "PushObject.size");
-  requirePositive(object.height, "PushObject.height");
-  requirePositive(object.mass, "PushObject.mass");
-  if (object.shape != "square" && object.shape != "circle" && object.shape != "hexagon")
-    throw SceneError("PushObject.shape must be square, circle or hexagon (got '" + object.shape + "')");
-  requirePositive(surface.object_friction, "SupportSurface.object_friction");
-  requirePositive(surface.pressure_factor, "SupportSurface.pressure_factor");
-  requireNonNegative(surface.pusher_friction, "SupportSurface.pusher_friction");
-  requireNonNegative(surface.holding_friction, "SupportSurface.holding_friction");
-  requirePositive(tip_stiffness, "PushingSetup.tip_stiffness");
+  mujoco::SceneSpec scene;
+  scene.support = surface;
+  scene.objects = {object};
+  scene.validate();  // names the object's bad parameter
+  requirePositive(gel_stiffness, "PushingSetup.gel_stiffness");
   requirePositive(sensor_height, "PushingSetup.sensor_height");
   if (sensor_height >= object.height)
     throw SceneError("PushingSetup.sensor_height must be below the object's top (the tip must touch a side face)");
@@ -68,16 +81,17 @@ void PushingSetup::validate() const {
   requirePositive(follower_depth, "PushingSetup.follower_depth");
   if (initial_depth >= 20 || follower_depth >= 20) throw SceneError("PushingSetup depths must be < tip radius");
   requirePositive(timeout, "PushingSetup.timeout");
+  requireNonNegative(follower_y_gain, "PushingSetup.follower_y_gain");
   if (!start.allFinite() || !target.allFinite()) throw SceneError("PushingSetup start/target must be finite");
   if ((target - start).norm() < 100) throw SceneError("PushingSetup target must be >= 100 mm from the start");
 }
 
 PaperValue paperSingleArm(const std::string& o, const std::string& s) {
   const bool foam = s == "foam";
-  if (o == "blue square") return foam ? PaperValue{0.50, 0.56} : PaperValue{4.45, 0.78};
-  if (o == "blue circle") return foam ? PaperValue{6.93, 0.06} : PaperValue{9.45, 0.13};
-  if (o == "red square") return foam ? PaperValue{1.88, 0.71} : PaperValue{4.38, 0.77};
-  if (o == "yellow hexagon") return foam ? PaperValue{0.33, 1.32} : PaperValue{2.87, 0.68};
+  if (o == "blue_square") return foam ? PaperValue{0.50, 0.56} : PaperValue{4.45, 0.78};
+  if (o == "blue_circle") return foam ? PaperValue{6.93, 0.06} : PaperValue{9.45, 0.13};
+  if (o == "red_square") return foam ? PaperValue{1.88, 0.71} : PaperValue{4.38, 0.77};
+  if (o == "yellow_hexagon") return foam ? PaperValue{0.33, 1.32} : PaperValue{2.87, 0.68};
   const double nan = std::numeric_limits<double>::quiet_NaN();
   return {nan, nan};
 }
@@ -85,17 +99,20 @@ PaperValue paperDualArm(const std::string& o, const std::string& s, bool tall) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   if (tall) {
     if (s != "MDF") return {nan, nan};
-    if (o == "tall blue square") return {3.62, 0.31};
-    if (o == "tall blue circle") return {7.11, 2.18};
-    if (o == "tall red square") return {4.94, 0.19};
-    if (o == "tall yellow hexagon") return {4.73, 0.38};
+    if (o == "tall_blue_square") return {3.62, 0.31};
+    if (o == "tall_blue_circle") return {7.11, 2.18};
+    if (o == "tall_red_square") return {4.94, 0.19};
+    if (o == "tall_yellow_hexagon") return {4.73, 0.38};
+    if (o == "mustard_bottle") return {6.24, 2.33};
+    if (o == "glass_bottle") return {6.42, 0.39};
+    if (o == "coffee_tin") return {4.81, 2.09};
     return {nan, nan};
   }
   const bool foam = s == "foam";
-  if (o == "blue square") return foam ? PaperValue{4.43, 0.25} : PaperValue{5.24, 0.24};
-  if (o == "blue circle") return foam ? PaperValue{4.46, 3.35} : PaperValue{3.58, 2.04};
-  if (o == "red square") return foam ? PaperValue{4.97, 0.18} : PaperValue{4.28, 0.15};
-  if (o == "yellow hexagon") return foam ? PaperValue{4.43, 0.31} : PaperValue{4.44, 0.62};
+  if (o == "blue_square") return foam ? PaperValue{4.43, 0.25} : PaperValue{5.24, 0.24};
+  if (o == "blue_circle") return foam ? PaperValue{4.46, 3.35} : PaperValue{3.58, 2.04};
+  if (o == "red_square") return foam ? PaperValue{4.97, 0.18} : PaperValue{4.28, 0.15};
+  if (o == "yellow_hexagon") return foam ? PaperValue{4.43, 0.31} : PaperValue{4.44, 0.62};
   return {nan, nan};
 }
 

@@ -1,135 +1,94 @@
 // Tasks (c) and (d): single- and dual-arm pushing (paper sec:single_arm_object_pushing_exp,
-// sec:dual_arm_object_pushing_exp, sec:dual_arm_tall_object_pushing).
+// sec:dual_arm_object_pushing_exp, sec:dual_arm_tall_object_pushing) on MuJoCo.
 //
-// Work frame: the support is the y–z plane, x is up.  The leader's sensor starts at
-// (x, y, z) = (45, −250, 100) mm with its axis along +y (right-angle mount: x_s up, y_s = −z_w),
-// the object is placed centrally in front of it with a face normal to the sensor axis
-// (seeded jitter: ±2 mm sideways, ±2° yaw), and the target is (y, z) = (0, 375) mm.
-// The dual-arm follower starts opposite, normal to the far face at 3 mm depth.
+// Work frame: the support is the x–y plane, z up. The leader's sensor starts at
+// (x, y, z) = (−250, 100, 45) mm with its axis along +x (right-angle mount: x_s up,
+// y_s = −y_w), the object is placed centrally in front of it with a face normal to the sensor
+// axis at 1 mm depth (seeded jitter: ±2 mm sideways, ±2° yaw), and the target is
+// (x, y) = (0, 375) mm. The dual-arm follower starts opposite, normal to the far face at 3 mm.
 //
-// World update (every sub-step, after the arms moved): the tip presses on the object with
-// force k·depth.  The object stays put while the net push is below the support friction
-// μ_s m g (quasi-static), i.e. while depth_pusher − depth_other ≤ d_fric = μ_s m g / k; the
-// excess is removed by moving the object with the quasi-static pushing model
-// (planar_pushing.hpp: ellipsoidal limit surface, motion cone, stick/slide), driven by the
-// pusher's displacement relative to the object scaled to the excess penetration.
+// Each control period (20 Hz): observation → filter → controller → twist; then, per MuJoCo
+// step, each sensor arm moves by its twist (MujocoSensorArm), the engine steps (objects slide,
+// turn and topple under the gel and support contacts), and each sensor's contact state
+// (ContactModel: feature frame, depth, stick/slip shear) is updated from the engine's tip
+// geometry.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <random>
 
 #include <lieservo/control/dual_arm.hpp>
 #include <lieservo/control/presets.hpp>
 #include <lieservo/control/pushing_controller.hpp>
 
-#include "lieservo_sim/planar_pushing.hpp"
 #include "task_common.hpp"
 
 namespace lieservo::sim {
 
 namespace {
 
+using detail::Filter;
 using detail::Gaussian;
-using detail::SensorArm;
+using mujoco::MujocoSensorArm;
+using mujoco::World;
 
-PrismSurface makePrism(const PushObject& o) {
-  if (o.shape == "square") return PrismSurface::square(o.size, o.height, o.name);
-  if (o.shape == "circle") return PrismSurface::circle(o.size, o.height, o.name);
-  return PrismSurface::regularPolygon(6, o.size, o.height, o.name);
-}
-double apothem(const PushObject& o) {
-  if (o.shape == "square") return o.size / 2;
-  if (o.shape == "circle") return o.size;
-  return o.size * std::cos(kPi / 6);
-}
+constexpr double kTimestep = 0.0025;  // s: MuJoCo step; the arms move once per step
+constexpr double kGiveUpAfter = 1.0;  // s out of contact: the push has failed, stop the trial
 
-// Object frame: x_o → y_w, y_o → z_w, z_o → x_w (up); yaw θ about x_w.
-const Mat3 kR0 = fromColumns(Vec3::UnitY(), Vec3::UnitZ(), Vec3::UnitX());
-SE3d objectPose(const Vec3& yzth) { return makePose(rotX(yzth.z()) * kR0, Vec3(0, yzth.x(), yzth.y())); }
-Vec3 objectPlanar(const SE3d& X) {
-  const Mat3 R = X.rotationMatrix() * kR0.transpose();  // = Rx(θ)
-  return Vec3(X.translation().y(), X.translation().z(), std::atan2(R(2, 1), R(1, 1)));
-}
+/// One sensorised arm in the MuJoCo world: the arm, the tactile contact state, GDN-like
+/// observations and (single arm) the Bayes filter.
+struct EngineArm {
+  MujocoSensorArm arm;
+  ContactModel contact;
+  GdnObservationModel gdn;
+  Filter filter;
+  ContactState state;
 
-struct World {
-  PrismSurface prism;
-  SE3d X_wo;
-  double d_fric;      // mm
-  double mu_c, c_ls;  // pusher friction, limit-surface ratio
-  double mu_hold;     // holding friction of the opposite (stabilising) sensor
-  double tip_radius;
-  long push_steps = 0, slide_steps = 0;
+  EngineArm(World& w, int sensor, const TaskOptions& opt, std::uint64_t seed)
+      : arm(w, sensor, opt.arm), contact(opt.contact), gdn(opt.calibration, {}, seed) {}
 
-  struct PusherState {
-    Vec2 prev = Vec2::Zero();
-  };
-  PusherState ps[2];
-
-  Vec2 centreInObject(const SE3d& X_ws) const { return (X_wo.inverse() * X_ws.translation()).head<2>(); }
-  double depthOf(const Vec2& c, SurfacePoint& sp) const {
-    sp = prism.closest2d(c);
-    return tip_radius - sp.signed_distance;
+  SE3d pose() {
+    SE3d X;
+    arm.readPose(X);
+    return X;
   }
-  void remember(const SE3d* arms[2], int n) {
-    for (int i = 0; i < n; ++i) ps[i].prev = centreInObject(*arms[i]);
-  }
-  // Moves the object so that no pusher exceeds the friction-limited penetration.
-  void resolve(const SE3d* arms[2], int n) {
-    for (int iter = 0; iter < 3; ++iter) {
-      Vec2 c[2];
-      SurfacePoint sp[2];
-      double pen[2] = {0, 0};
-      for (int i = 0; i < n; ++i) {
-        c[i] = centreInObject(*arms[i]);
-        pen[i] = std::max(0.0, depthOf(c[i], sp[i]));
-      }
-      int who = -1;
-      double excess = 0;
-      for (int i = 0; i < n; ++i) {
-        const double other = n == 2 ? pen[1 - i] : 0.0;
-        const double e = pen[i] - other - d_fric;
-        if (e > 1e-7 && e > excess) excess = e, who = i;
-      }
-      if (who < 0) break;
-      const Vec2 nrm = sp[who].normal.head<2>();
-      const Vec2 r = sp[who].point.head<2>();
-      const Vec2 dc = c[who] - ps[who].prev;
-      const double dn = -dc.dot(nrm);
-      Vec2 u = (iter == 0 && dn > 1e-9) ? Vec2(dc * std::min(excess / dn, 4.0)) : Vec2(-nrm * excess);
-      PushOutcome po = quasiStaticPush(r, nrm, u, mu_c, c_ls);
-      if (po.separating) break;
-      if (iter == 0) {
-        ++push_steps;
-        if (po.sliding) ++slide_steps;
-      }
-      Vec3 V = po.twist;
-      const int other = 1 - who;
-      if (n == 2 && pen[other] > 0) {
-        // The opposite sensor presses with k·depth and holds the object by friction: its
-        // contact point should move with it tangentially.  Minimal change of V in the
-        // limit-surface metric W = diag(1, 1, c²) subject to that constraint; if the needed
-        // tangential force exceeds μ_c times its normal force (relative to the pusher's
-        // force), the constraint force saturates (the object slides under the other sensor).
-        const Vec2 nO = sp[other].normal.head<2>(), rO = sp[other].point.head<2>();
-        const Vec2 tO(-nO.y(), nO.x());
-        const Vec3 a(tO.x(), tO.y(), rO.x() * tO.y() - rO.y() * tO.x());
-        const double b = (c[other] - ps[other].prev).dot(tO);
-        const Vec3 Winv_a(a.x(), a.y(), a.z() / (c_ls * c_ls));
-        double lambda = (b - a.dot(V)) / a.dot(Winv_a);
-        const double push_force = V.head<2>().norm();
-        const double limit = mu_hold * pen[other] / std::max(pen[who], 1e-6) * push_force;
-        lambda = std::clamp(lambda, -limit, limit);
-        V += lambda * Winv_a;
-      }
-      Vec6 xi = Vec6::Zero();
-      xi << V.x(), V.y(), 0, 0, 0, V.z();
-      X_wo = X_wo * SE3d::exp(xi);
-      X_wo.normalize();
+  /// The contact from the engine's nearest object point (out of range: no contact).
+  void touch(const World& w, int sensor) {
+    const mujoco::TipGeometry g = w.tipGeometry(sensor);
+    if (!g.valid) {
+      contact.release();
+      state = ContactState{};
+      state.depth = -1e3;
+      return;
     }
-    remember(arms, n);
+    const SE3d X_wo = w.objectPose(g.object);
+    SurfacePoint sp;
+    sp.point = X_wo.inverse() * g.point_w;
+    sp.normal = X_wo.rotationMatrix().transpose() * g.normal_w;
+    sp.signed_distance = contact.params().tip_radius - g.depth;
+    state = contact.update(pose(), X_wo, sp);
+  }
+  Status observe(Gaussian& g) {
+    const GdnObservation obs = gdn.observe(state);
+    return lieservo::fromTangentGaussian<lieservo::ClosedFormJacobian>(obs.mu, obs.sigma, g);
+  }
+  Status sense(SE3d& X_sf) {
+    Gaussian g;
+    Status s = observe(g);
+    if (s != Status::ok) return s;
+    s = filter.step(pose(), g);  // the first step initialises
+    if (s != Status::ok && s != Status::outlier_rejected) return s;
+    X_sf = filter.filtered().mean;
+    return Status::ok;
   }
 };
+
+Vec3 objectPlanar(const SE3d& X) {
+  const Mat3 R = X.rotationMatrix();
+  return Vec3(X.translation().x(), X.translation().y(), std::atan2(R(1, 0), R(0, 0)));
+}
 
 double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
@@ -139,44 +98,66 @@ PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& opt, std::u
   setup.validate();
   opt.validate();
   PushTrial tr;
-  const double dt = 1.0 / opt.control_rate, h = dt / opt.substeps;
+  const double dt = 1.0 / opt.control_rate;
+  const int substeps = std::max(1, int(std::lround(dt / kTimestep)));
+  const double h = dt / substeps;
   const double R = opt.contact.tip_radius;
   std::mt19937_64 rng(trial_seed * 6364136223846793005ULL + 1442695040888963407ULL);
   std::normal_distribution<double> N01(0, 1);
   std::uniform_real_distribution<double> U(0.9, 1.1);
 
-  World w{makePrism(setup.object), SE3d::identity(), 0, 0, 0, 0, R, 0, 0, {}};
-  w.mu_hold = setup.surface.holding_friction;
-  const double mu_s = setup.surface.object_friction * U(rng);
-  w.d_fric = mu_s * setup.object.mass * 9.81 / setup.tip_stiffness;
-  w.mu_c = setup.surface.pusher_friction;
-  w.c_ls = setup.surface.pressure_factor * w.prism.uniformPressureLimitSurfaceRatio();
-  const double jitter_z = 2.0 * std::clamp(N01(rng), -2.0, 2.0);
-  const double jitter_th = setup.object.shape == "circle" ? 0.0 : deg(2.0) * std::clamp(N01(rng), -2.0, 2.0);
-  const double ap = apothem(setup.object);
-  const Vec3 obj0(setup.start.x() + R - setup.initial_depth + ap, setup.start.y() + jitter_z, jitter_th);
-  w.X_wo = objectPose(obj0);
-
+  // The scene: support (friction ±10 %), the object in front of the leader, one or two sensors.
+  mujoco::SceneSpec scene;
+  scene.timestep = h;
+  scene.support = setup.surface;
+  scene.support.friction *= U(rng);
+  ObjectSpec obj = setup.object;
+  obj.friction = opt.contact.skin_friction;
+  const double jitter_y = 2.0 * std::clamp(N01(rng), -2.0, 2.0);
+  obj.yaw = obj.shape == "circle" ? 0.0 : deg(2.0) * std::clamp(N01(rng), -2.0, 2.0);
+  const double a = mujoco::halfExtentX(obj);
+  obj.x = setup.start.x() + R - setup.initial_depth + a;
+  obj.y = setup.start.y() + jitter_y;
+  scene.objects = {obj};
   const double H = setup.sensor_height;
-  const SE3d X_ws_leader = makePose(fromColumns(Vec3::UnitX(), -Vec3::UnitZ(), Vec3::UnitY()),
-                                    Vec3(H, setup.start.x(), setup.start.y()));
-  // Follower opposite: along the line through the object centre, at the far face.
-  const Vec3 far_c = w.X_wo * Vec3(ap + R - setup.follower_depth, 0, H);
-  const Vec3 far_dir = w.X_wo.rotationMatrix() * Vec3(-1, 0, 0);  // sensor axis: into the far face
-  const SE3d X_ws_follower =
-      makePose(fromColumns(Vec3::UnitX(), far_dir.cross(Vec3::UnitX()), far_dir), far_c);
+  // Right-angle mount: z_s along the push (+x), x_s up, y_s = z_s × x_s = −y.
+  const Mat3 R_leader = fromColumns(Vec3::UnitZ(), -Vec3::UnitY(), Vec3::UnitX());
+  mujoco::SensorSpec leader_spec;
+  leader_spec.name = "leader";
+  leader_spec.tip_radius = R;
+  leader_spec.gel_stiffness = setup.gel_stiffness;
+  leader_spec.initial_pose = makePose(R_leader, Vec3(setup.start.x(), setup.start.y(), H));
+  scene.sensors = {leader_spec};
+  if (setup.dual_arm) {
+    // Opposite, along the line through the object's centre, normal to the far face.
+    const Mat3 Ro = rotZ(obj.yaw);
+    const Vec3 dir = -Ro.col(0);  // sensor axis: into the far face
+    mujoco::SensorSpec f = leader_spec;
+    f.name = "follower";
+    f.initial_pose = makePose(fromColumns(Vec3::UnitZ(), dir.cross(Vec3::UnitZ()), dir),
+                              Vec3(obj.x, obj.y, H) + Ro.col(0) * (a + R - setup.follower_depth));
+    scene.sensors.push_back(f);
+  }
+  World world(scene);
 
   const std::uint64_t s0 = trial_seed * 1000003ULL;
-  SensorArm leader(X_ws_leader, w.prism, opt, s0 + 1);
-  SensorArm follower(setup.dual_arm ? X_ws_follower : X_ws_leader, w.prism, opt, s0 + 2);
-  const SE3d X_wt = makePose(Mat3::Identity(), Vec3(H, setup.target.x(), setup.target.y()));
+  EngineArm leader(world, 0, opt, s0 + 1);
+  std::unique_ptr<EngineArm> follower;
+  if (setup.dual_arm) follower = std::make_unique<EngineArm>(world, 1, opt, s0 + 2);
+  const SE3d X_wt = makePose(Mat3::Identity(), Vec3(setup.target.x(), setup.target.y(), H));
 
   lieservo::PushingController<double> single;
   lieservo::DualArmPushing<double> dual;
   if (setup.dual_arm) {
     auto o = lieservo::dualArmPushingPreset<double>(setup.tall);
     o.leader.target = X_wt;
-    dual = lieservo::DualArmPushing<double>(o, detail::Filter(), detail::Filter());
+    if (setup.follower_y_gain > 0) {  // the named variant: a tangential channel, z's Ki/Kp and Kd/Kp
+      auto& pid = o.follower.pid;
+      pid.kp(1, 1) = setup.follower_y_gain;
+      pid.ki(1, 1) = pid.ki(2, 2) * setup.follower_y_gain / pid.kp(2, 2);
+      pid.kd(1, 1) = pid.kd(2, 2) * setup.follower_y_gain / pid.kp(2, 2);
+    }
+    dual = lieservo::DualArmPushing<double>(o, Filter(), Filter());
     if (dual.configurationStatus() != Status::ok) throw SceneError("dual-arm pushing preset rejected");
   } else {
     auto o = lieservo::pushingPreset<double>(lieservo::PushingConfiguration::single_arm);
@@ -185,24 +166,22 @@ PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& opt, std::u
     if (single.configurationStatus() != Status::ok) throw SceneError("pushing preset rejected");
   }
 
-  const int n_arms = setup.dual_arm ? 2 : 1;
-  const SE3d* arms[2] = {&leader.arm.pose(), &follower.arm.pose()};
-  w.remember(arms, n_arms);
-  leader.touch(w.X_wo);
-  if (setup.dual_arm) follower.touch(w.X_wo);
+  leader.touch(world, 0);
+  if (follower) follower->touch(world, 1);
 
   double t = 0;
   bool terminated = false;
   long steps = 0, follower_steps_in_contact = 0;
-  while (t < setup.timeout) {
+  double lost_for = 0;  // s the leader has been out of contact
+  while (t < setup.timeout && lost_for < kGiveUpAfter) {
     Vec6 uL = Vec6::Zero(), uF = Vec6::Zero();
     Status s;
     if (setup.dual_arm) {
       lieservo::DualArmPushing<double>::ArmInput inL, inF;
-      inL.sensor_pose = leader.arm.pose();
-      inF.sensor_pose = follower.arm.pose();
+      inL.sensor_pose = leader.pose();
+      inF.sensor_pose = follower->pose();
       s = leader.observe(inL.observation);
-      if (s == Status::ok) s = follower.observe(inF.observation);
+      if (s == Status::ok) s = follower->observe(inF.observation);
       lieservo::DualArmPushing<double>::ArmOutput oL, oF;
       if (s == Status::ok) s = dual.step(inL, inF, dt, oL, oF);
       uL = oL.velocity;
@@ -211,102 +190,109 @@ PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& opt, std::u
     } else {
       SE3d X_sf;
       s = leader.sense(X_sf);
-      if (s == Status::ok) s = single.step(leader.arm.pose(), X_sf, dt, uL);
+      if (s == Status::ok) s = single.step(leader.pose(), X_sf, dt, uL);
       terminated = single.terminated();
     }
-    if (s != Status::ok) break;
-    if (terminated) break;
-    for (int j = 0; j < opt.substeps; ++j) {
+    if (s != Status::ok || terminated) break;
+    for (int j = 0; j < substeps; ++j) {
       leader.arm.commandVelocity(uL, h);
-      if (setup.dual_arm) follower.arm.commandVelocity(uF, h);
-      w.resolve(arms, n_arms);
-      leader.touch(w.X_wo);
-      if (setup.dual_arm) follower.touch(w.X_wo);
+      if (follower) follower->arm.commandVelocity(uF, h);
+      if (world.step(h) != Status::ok) break;
+      leader.touch(world, 0);
+      if (follower) follower->touch(world, 1);
     }
     t += dt;
     ++steps;
     const ContactState& cL = leader.state;
     if (!cL.in_contact) tr.contact_kept = false;
+    lost_for = cL.in_contact ? 0.0 : lost_for + dt;
     tr.max_leader_depth = std::max(tr.max_leader_depth, cL.depth);
-    if (setup.dual_arm) {
-      const ContactState& cF = follower.state;
+    if (follower) {
+      const ContactState& cF = follower->state;
       if (!cF.in_contact) tr.follower_contact_kept = false;
       else ++follower_steps_in_contact;
       tr.max_follower_depth = std::max(tr.max_follower_depth, cF.depth);
       tr.min_follower_depth = std::min(tr.min_follower_depth, cF.depth);
-      tr.follower_path.push_back(follower.arm.pose().translation());
+      tr.follower_path.push_back(follower->pose().translation());
     }
-    tr.sensor_path.push_back(leader.arm.pose().translation());
+    tr.sensor_path.push_back(leader.pose().translation());
     {
       const auto& pcn = setup.dual_arm ? dual.leader() : single;
       tr.bearing.push_back(toDeg(pcn.bearing()));
       tr.alignment_velocity.push_back(pcn.alignmentVelocity()[1]);
       tr.leader_depth.push_back(cL.depth);
       tr.leader_tilt.push_back(toDeg(eulerXYZ(cL.X_fs.rotationMatrix())[0]));
-      tr.follower_depth.push_back(setup.dual_arm ? follower.state.depth : 0.0);
+      tr.follower_depth.push_back(follower ? follower->state.depth : 0.0);
     }
-    tr.object_path.push_back(objectPlanar(w.X_wo));
+    tr.object_path.push_back(objectPlanar(world.objectPose(0)));
+    tr.max_tilt = std::max(tr.max_tilt, toDeg(world.objectTilt(0)));
+    if (tr.max_tilt > Bounds::topple_tilt) {
+      tr.toppled = true;
+      break;
+    }
   }
   tr.terminated = terminated;
   tr.duration = t;
   tr.follower_contact_fraction = steps ? double(follower_steps_in_contact) / double(steps) : 1.0;
   const ContactState& cL = leader.state;
-  const Vec2 p(cL.point_w.y(), cL.point_w.z()), n = Vec2(cL.normal_w.y(), cL.normal_w.z()).normalized();
+  const Vec2 p = cL.point_w.head<2>(), n = cL.normal_w.head<2>().normalized();
   const Vec2 T = setup.target;
   tr.target_error = std::abs(cross2(T - p, n));
-  tr.final_distance = (Vec2(leader.arm.pose().translation().y(), leader.arm.pose().translation().z()) - T).norm();
-  tr.sliding_fraction = w.push_steps ? double(w.slide_steps) / double(w.push_steps) : 0.0;
-  if (tr.object_path.empty()) tr.object_path.push_back(objectPlanar(w.X_wo));
+  tr.final_distance = (leader.pose().translation().head<2>() - T).norm();
+  if (tr.object_path.empty()) tr.object_path.push_back(objectPlanar(world.objectPose(0)));
   return tr;
 }
 
-PushingCase runPushingCase(const PushingSetup& setup, const TaskOptions& opt, int trials) {
+PushingCase runPushingCase(const PushingSetup& setup, const TaskOptions& opt, int trials, bool judged) {
   if (trials < 1) throw SceneError("runPushingCase: trials must be >= 1");
   PushingCase pc;
   pc.setup = setup;
+  pc.judged = judged;
   for (int i = 0; i < trials; ++i) pc.trials.push_back(runPushTrial(setup, opt, opt.seed * 1000 + std::uint64_t(i) + 1));
-  // Statistics over the trials that reached the target (the paper's trials all did).
+  // Statistics over the trials that reached the target.
   double m = 0;
-  for (const auto& t : pc.trials)
+  for (const auto& t : pc.trials) {
     if (t.terminated) m += t.target_error, ++pc.reached_trials;
+    if (t.toppled) ++pc.toppled_trials;
+    if (t.follower_contact_kept) ++pc.follower_kept_trials;
+  }
   m = pc.reached_trials ? m / pc.reached_trials : std::numeric_limits<double>::quiet_NaN();
   double v = 0;
   for (const auto& t : pc.trials)
     if (t.terminated) v += (t.target_error - m) * (t.target_error - m);
   pc.mean_error = m;
   pc.sd_error = pc.reached_trials > 1 ? std::sqrt(v / (pc.reached_trials - 1)) : 0.0;
-  const std::string tag = std::string(setup.dual_arm ? "dual-arm " : "single-arm ") + setup.object.name + " on " +
-                          setup.surface.name;
+  if (!judged) {
+    pc.success = true;
+    return pc;
+  }
+  const std::string tag = std::string(setup.dual_arm ? "dual-arm " : "single-arm ") + displayName(setup.object) +
+                          " on " + setup.surface.name;
   char buf[240];
-  const int allowed_misses = trials / 5;  // 1 in 5 trials (Bounds::pushing_min_reached_fraction)
   for (std::size_t i = 0; i < pc.trials.size(); ++i) {
     const PushTrial& t = pc.trials[i];
-    if (!t.terminated) {
-      std::snprintf(buf, sizeof buf, "%s trial %zu: target not reached in %.0f s (final distance %.0f mm)", tag.c_str(),
-                    i + 1, setup.timeout, t.final_distance);
-      pc.notes.push_back(buf);
-      continue;
+    auto fail = [&](const std::string& why) { pc.failures.push_back(tag + " trial " + std::to_string(i + 1) + ": " + why); };
+    if (t.toppled) {
+      std::snprintf(buf, sizeof buf, "toppled (tilt %.0f deg > %.0f deg)", t.max_tilt, Bounds::topple_tilt);
+      fail(buf);
+    } else if (!t.terminated) {
+      std::snprintf(buf, sizeof buf, "target not reached in %.0f s (final distance %.0f mm)", setup.timeout,
+                    t.final_distance);
+      fail(buf);
+    } else if (t.target_error > Bounds::pushing_error_max) {
+      std::snprintf(buf, sizeof buf, "target error %.1f mm > %.0f mm", t.target_error, Bounds::pushing_error_max);
+      fail(buf);
     }
-    if (!t.contact_kept) {
-      std::snprintf(buf, sizeof buf, "%s trial %zu: pusher lost contact", tag.c_str(), i + 1);
-      pc.failures.push_back(buf);
-    }
-    if (t.target_error > Bounds::pushing_error_max) {
-      std::snprintf(buf, sizeof buf, "%s trial %zu: target error %.1f mm > %.0f mm", tag.c_str(), i + 1,
-                    t.target_error, Bounds::pushing_error_max);
-      pc.failures.push_back(buf);
-    }
+    if (!t.contact_kept) fail("pusher lost contact");
     if (setup.dual_arm && !t.follower_contact_kept) {
-      std::snprintf(buf, sizeof buf, "%s trial %zu: follower out of contact for %.0f%% of the push", tag.c_str(),
-                    i + 1, 100.0 * (1.0 - t.follower_contact_fraction));
-      pc.notes.push_back(buf);
+      std::snprintf(buf, sizeof buf, "follower out of contact for %.0f%% of the push",
+                    100.0 * (1.0 - t.follower_contact_fraction));
+      fail(buf);
     }
-    if (t.follower_contact_kept) ++pc.follower_kept_trials;
-  }
-  if (trials - pc.reached_trials > allowed_misses) {
-    std::snprintf(buf, sizeof buf, "%s: target reached in only %d of %d trials (at most %d miss allowed)", tag.c_str(),
-                  pc.reached_trials, trials, allowed_misses);
-    pc.failures.push_back(buf);
+    if (setup.dual_arm && t.max_tilt > Bounds::upright_tilt_max) {
+      std::snprintf(buf, sizeof buf, "object tilted %.1f deg > %.0f deg", t.max_tilt, Bounds::upright_tilt_max);
+      fail(buf);
+    }
   }
   pc.success = pc.failures.empty();
   return pc;
@@ -317,7 +303,7 @@ namespace {
 void writeCase(const PushingCase& pc, const std::string& dir, const std::string& stem) {
   CsvWriter csv;
   if (!csv.open(detail::join(dir, stem + ".csv"),
-                {"trial", "step", "sensor_y", "sensor_z", "follower_y", "follower_z", "object_y", "object_z",
+                {"trial", "step", "sensor_x", "sensor_y", "follower_x", "follower_y", "object_x", "object_y",
                  "object_theta_deg", "bearing_deg", "align_uy", "leader_depth", "leader_alpha_deg", "follower_depth"}))
     return;
   for (std::size_t i = 0; i < pc.trials.size(); ++i) {
@@ -326,7 +312,7 @@ void writeCase(const PushingCase& pc, const std::string& dir, const std::string&
       const Vec3& s = t.sensor_path[k];
       const Vec3 f = k < t.follower_path.size() ? t.follower_path[k] : Vec3(NAN, NAN, NAN);
       const Vec3& o = t.object_path[k];
-      csv.row({double(i + 1), double(k), s.y(), s.z(), f.y(), f.z(), o.x(), o.y(), toDeg(o.z()), t.bearing[k],
+      csv.row({double(i + 1), double(k), s.x(), s.y(), f.x(), f.y(), o.x(), o.y(), toDeg(o.z()), t.bearing[k],
                t.alignment_velocity[k], t.leader_depth[k], t.leader_tilt[k], t.follower_depth[k]});
     }
   }
@@ -336,25 +322,21 @@ void plotCases(const std::vector<const PushingCase*>& cases, const std::string& 
   SvgFigure fig(title);
   for (const PushingCase* pc : cases) {
     const PushTrial& t = pc->trials.front();
-    SvgPanel& P = fig.panel(pc->setup.object.name, "y (mm)", "z (mm)");
-    const PrismSurface prism = makePrism(pc->setup.object);
-    const auto outline = prism.outline().front();
-    auto drawObject = [&](const Vec3& yzth, const std::string& colour, bool dashed) {
-      const SE3d X = objectPose(yzth);
+    SvgPanel& P = fig.panel(displayName(pc->setup.object), "x (mm)", "y (mm)");
+    const std::vector<Vec2> outline = mujoco::footprint(pc->setup.object);
+    auto drawObject = [&](const Vec3& xyth, const std::string& colour, bool dashed) {
+      const Eigen::Rotation2Dd Rz(xyth.z());
       std::vector<Vec2> pts;
-      for (const auto& q : outline) {
-        const Vec3 p = X * q;
-        pts.emplace_back(p.y(), p.z());
-      }
+      for (const Vec2& q : outline) pts.push_back(Rz * q + xyth.head<2>());
+      pts.push_back(pts.front());
       P.line(pts, colour, 1.5, dashed);
     };
-    // The start pose is the one before the first step: rebuild from the first logged pose is
-    // close enough for a drawing (the object moves < 1 mm in one step).
+    // The first logged pose is one control period after the start (< 1 mm of motion).
     drawObject(t.object_path.front(), "#888", true);
     drawObject(t.object_path.back(), "#2060c0", false);
     std::vector<Vec2> sp, fp;
-    for (const auto& s : t.sensor_path) sp.emplace_back(s.y(), s.z());
-    for (const auto& s : t.follower_path) fp.emplace_back(s.y(), s.z());
+    for (const auto& s : t.sensor_path) sp.emplace_back(s.x(), s.y());
+    for (const auto& s : t.follower_path) fp.emplace_back(s.x(), s.y());
     P.line(sp, "#d62728", 1.5, false, "leader sensor");
     if (!fp.empty()) P.line(fp, "#2ca02c", 1.5, false, "follower sensor");
     P.marker(pc->setup.target, 20, "#d62728", false);
@@ -363,75 +345,72 @@ void plotCases(const std::vector<const PushingCase*>& cases, const std::string& 
   fig.write(path, 360);
 }
 
-}  // namespace
+struct Group {
+  SupportSpec surface;
+  std::vector<ObjectSpec> objects;
+  bool tall;
+  std::string stem;
+};
 
-PushingResult runSingleArmPushing(const TaskOptions& opt, int trials) {
+PushingResult runGroups(const std::vector<Group>& groups, bool dual, bool judged, const TaskOptions& opt,
+                        int trials, double follower_y_gain = 0) {
   PushingResult res;
-  for (const SupportSurface& s : {foamSurface(), mdfSurface()}) {
-    std::vector<const PushingCase*> fig;
-    for (const PushObject& o : shortObjects()) {
+  for (const Group& g : groups) {
+    const std::size_t first = res.cases.size();
+    for (const ObjectSpec& o : g.objects) {
       PushingSetup su;
       su.object = o;
-      su.surface = s;
-      res.cases.push_back(runPushingCase(su, opt, trials));
+      su.surface = g.surface;
+      su.dual_arm = dual;
+      su.tall = g.tall;
+      su.follower_y_gain = follower_y_gain;
+      res.cases.push_back(runPushingCase(su, opt, trials, judged));
     }
     if (!opt.out_dir.empty()) {
       makeDirectories(opt.out_dir);
-      for (std::size_t i = res.cases.size() - 4; i < res.cases.size(); ++i) {
+      std::vector<const PushingCase*> fig;
+      for (std::size_t i = first; i < res.cases.size(); ++i) {
         fig.push_back(&res.cases[i]);
-        std::string stem = "pushing_single_" + s.name + "_" + res.cases[i].setup.object.name;
-        std::replace(stem.begin(), stem.end(), ' ', '_');
-        writeCase(res.cases[i], opt.out_dir, stem);
+        writeCase(res.cases[i], opt.out_dir, g.stem + "_" + res.cases[i].setup.object.name);
       }
-      plotCases(fig, detail::join(opt.out_dir, "pushing_single_" + s.name + ".svg"),
-                "Single-arm pushing on " + s.name + " (trial 1; target: red circle; start dashed, end solid)");
+      plotCases(fig, detail::join(opt.out_dir, g.stem + ".svg"),
+                std::string(dual ? "Dual-arm" : "Single-arm") + " pushing on " + g.surface.name +
+                    " (trial 1; target: red circle; object at start dashed, at end solid" +
+                    (dual ? "; leader red, follower green)" : ")"));
     }
   }
   for (const auto& c : res.cases) {
     res.failures.insert(res.failures.end(), c.failures.begin(), c.failures.end());
-    res.notes.insert(res.notes.end(), c.notes.begin(), c.notes.end());
+    for (const auto& t : c.trials) res.sim_time += t.duration;
   }
   res.success = res.failures.empty();
   return res;
 }
 
-PushingResult runDualArmPushing(const TaskOptions& opt, int trials) {
-  PushingResult res;
-  struct Group {
-    SupportSurface s;
-    bool tall;
-    std::string stem;
-  };
-  for (const Group& g : {Group{foamSurface(), false, "short_foam"}, Group{mdfSurface(), false, "short_MDF"},
-                         Group{mdfSurface(), true, "tall_MDF"}}) {
-    std::vector<const PushingCase*> fig;
-    for (const PushObject& o : g.tall ? tallObjects() : shortObjects()) {
-      PushingSetup su;
-      su.object = o;
-      su.surface = g.s;
-      su.dual_arm = true;
-      su.tall = g.tall;
-      res.cases.push_back(runPushingCase(su, opt, trials));
-    }
-    if (!opt.out_dir.empty()) {
-      makeDirectories(opt.out_dir);
-      for (std::size_t i = res.cases.size() - 4; i < res.cases.size(); ++i) {
-        fig.push_back(&res.cases[i]);
-        std::string stem = "pushing_dual_" + g.stem + "_" + res.cases[i].setup.object.name;
-        std::replace(stem.begin(), stem.end(), ' ', '_');
-        writeCase(res.cases[i], opt.out_dir, stem);
-      }
-      plotCases(fig, detail::join(opt.out_dir, "pushing_dual_" + g.stem + ".svg"),
-                std::string("Dual-arm pushing, ") + (g.tall ? "tall objects" : "short objects") + " on " + g.s.name +
-                    " (trial 1; leader red, follower green)");
-    }
-  }
-  for (const auto& c : res.cases) {
-    res.failures.insert(res.failures.end(), c.failures.begin(), c.failures.end());
-    res.notes.insert(res.notes.end(), c.notes.begin(), c.notes.end());
-  }
-  res.success = res.failures.empty();
-  return res;
+std::vector<ObjectSpec> tallAndEveryday() {
+  std::vector<ObjectSpec> v = tallObjects();
+  for (const ObjectSpec& o : everydayObjects()) v.push_back(o);
+  return v;
+}
+
+}  // namespace
+
+PushingResult runSingleArmPushing(const TaskOptions& opt, int trials) {
+  return runGroups({{SupportSpec::foam(), shortObjects(), false, "pushing_single_foam"},
+                    {SupportSpec::mdf(), shortObjects(), false, "pushing_single_MDF"}},
+                   false, true, opt, trials);
+}
+
+PushingResult runDualArmPushing(const TaskOptions& opt, int trials, double follower_y_gain) {
+  return runGroups({{SupportSpec::foam(), shortObjects(), false, "pushing_dual_short_foam"},
+                    {SupportSpec::mdf(), shortObjects(), false, "pushing_dual_short_MDF"},
+                    {SupportSpec::mdf(), tallAndEveryday(), true, "pushing_dual_tall_MDF"}},
+                   true, true, opt, trials, follower_y_gain);
+}
+
+PushingResult runTallSingleArmPushing(const TaskOptions& opt, int trials) {
+  return runGroups({{SupportSpec::mdf(), tallAndEveryday(), false, "pushing_single_tall_MDF"}}, false, false, opt,
+                   trials);
 }
 
 }  // namespace lieservo::sim

@@ -27,6 +27,10 @@
 //
 // The anchor lives in the object frame, so a moving object (tracking leader, pushed prism)
 // drags the contact with it.  Out of contact (z ≤ 0) the anchor is released.
+//
+// The nearest point comes from an analytic Surface (surfaces.hpp) or from a physics engine
+// (the MuJoCo world's tip geometry, passed to update() as a SurfacePoint in the object frame);
+// without a Surface, a slipping anchor stays on the tangent plane of the current contact.
 #pragma once
 
 #include "common.hpp"
@@ -40,6 +44,10 @@ struct ContactParams {
   double min_slip_radius = 0.5;       ///< r_min (mm)
   double max_slip_radius = 5.0;       ///< r_max (mm): paper's shear training radius
   double max_twist = deg(5.0);        ///< γ_max (rad): paper's γ training range
+  /// μ_c, skin–object sliding friction in the MuJoCo scenes: the TacTip's rubber-like skin
+  /// (Agilus 30, paper sec. on the sensor) on smooth plastic; assumed (rubber on plastic is
+  /// typically 0.5–1), not measured. docs/simulation.md reports the results' sensitivity to it.
+  double skin_friction = 0.8;
 
   void validate() const;              ///< throws SceneError
 };
@@ -62,17 +70,20 @@ struct ContactState {
 class ContactModel {
  public:
   ContactModel(const Surface& surface, const ContactParams& params = {});
+  /// Without a surface: the nearest point is the caller's (update with a SurfacePoint).
+  explicit ContactModel(const ContactParams& params);
 
   /// Evaluates the contact for sensor pose X_ws and object pose X_wo; updates the stick/slip
-  /// anchor.  Never throws.
+  /// anchor.  Never throws; without a Surface it reports no contact (use the SurfacePoint form).
   ContactState update(const SE3d& X_ws, const SE3d& X_wo);
+  /// The same with the nearest object point `sp` given (object frame), e.g. by the engine.
+  ContactState update(const SE3d& X_ws, const SE3d& X_wo, const SurfacePoint& sp);
   /// Evaluates without changing the anchor (e.g. for logging).
   ContactState peek(const SE3d& X_ws, const SE3d& X_wo) const;
   /// Forget the anchor (the next contact starts unsheared).
   void release() { anchored_ = false; }
   bool anchored() const { return anchored_; }
   const ContactParams& params() const { return params_; }
-  const Surface& surface() const { return *surface_; }
   double slipRadius(double depth) const;
 
  private:
@@ -84,7 +95,7 @@ class ContactModel {
                         const SE3d& X_os) const;
   Anchor newAnchor(const SurfacePoint& sp, const SE3d& X_os) const;
 
-  const Surface* surface_;
+  const Surface* surface_ = nullptr;
   ContactParams params_;
   bool anchored_ = false;
   Anchor anchor_;

@@ -12,11 +12,13 @@
 // Sensors. Each sensor is a mocap body: the arm holding it is position-stiff, so the sensor
 // pose is what the commanded twist makes it (MujocoSensorArm integrates X_ws ← X_ws exp(u dt)
 // under velocity and acceleration limits). Its tip is a sphere of radius 20 mm (the 40 mm
-// TacTip's hemisphere; the back half never touches in these tasks). The compliant gel is the
-// contact between tip and object: soft (solref in MuJoCo's direct form −stiffness, −damping),
-// so the tip sinks into the object by the contact depth and the object feels a force that
-// grows with it (see SensorSpec::gel_stiffness). Contacts are elliptic cones with a high
-// impratio (no creeping slip) and condim 4 (torsional friction, the twist γ).
+// TacTip's hemisphere; the back half never touches in these tasks). The compliant gel is a
+// spring between the arm's nominal tip and the touching tip: the tip is a light body on three
+// slide joints with stiffness k_gel (SensorSpec::gel_stiffness), so a contact depth d (the
+// object's surface inside the nominal tip sphere) presses the object with ≈ k_gel d, whatever
+// its mass, and a sticking contact shears the gel sideways. Tip–object contacts are stiff,
+// with elliptic friction cones, a high impratio (no creeping slip) and condim 4 (torsional
+// friction, the twist γ).
 #pragma once
 
 #include <string>
@@ -46,13 +48,16 @@ struct SupportSpec {
 /// A rigid object standing on the support: a vertical prism.
 struct ObjectSpec {
   std::string name = "object";
-  std::string shape = "square";  ///< "square" (side), "circle" (radius), "hexagon" (circumradius)
+  /// "square" (side), "rectangle" (side along x_o, size2 along y_o), "circle" (radius),
+  /// "hexagon" (circumradius)
+  std::string shape = "square";
   double size = 100;             ///< mm: side, radius or circumradius
+  double size2 = 0;              ///< mm: the rectangle's side along y_o (other shapes: unused)
   double height = 60;            ///< mm
   double mass = 0.5;             ///< kg
   double x = 0, y = 0;           ///< mm, centre of the base on the support
   double yaw = 0;                ///< rad about the support normal
-  double friction = 0.25;        ///< μ_c, skin–object sliding friction at the sensor
+  double friction = 0.8;         ///< μ_c, skin–object sliding friction at the sensor (ContactParams)
 };
 
 /// A TacTip sensor carried by an arm.
@@ -64,7 +69,7 @@ struct SensorSpec {
   /// soft silicone gel) and R = 20 mm that is ≈ 0.6 N/mm at 1 mm and 1.5 N/mm at 6 mm; the
   /// linear 1 N/mm used here sits between them (0–6 N over the 0–6 mm depth range).
   double gel_stiffness = 1.0;
-  /// ζ of the gel contact: the direct-form damping is B = 2ζ sqrt(K / (1 − imp)).
+  /// ζ of the gel spring: damping 2ζ sqrt(k_gel m_tip) on each slide joint.
   double gel_damping_ratio = 1.0;
   SE3d initial_pose = SE3d::identity();  ///< X_ws (mm)
 };
@@ -119,6 +124,8 @@ class World {
   /// Nearest object to sensor s's tip centre within `range` mm of its surface.
   TipGeometry tipGeometry(int s, double range = 30) const noexcept;
   /// Total normal force (N) of sensor s's tip on the objects, from MuJoCo's contact forces.
+  /// tipGeometry's depth is measured from the arm's nominal tip, so it includes the gel's
+  /// deflection.
   double tipNormalForce(int s) const noexcept;
 
   int objectCount() const noexcept { return int(spec_.objects.size()); }
@@ -130,11 +137,18 @@ class World {
   mjModel_* m_ = nullptr;
   mjData_* d_ = nullptr;
   std::vector<int> object_body_, object_geom_, object_qpos_, object_dof_;
-  std::vector<int> sensor_mocap_, sensor_geom_;
+  std::vector<int> sensor_mocap_, sensor_geom_, sensor_probe_;
 };
 
 /// The MJCF text of a scene (metres inside). Validates first.
 std::string sceneMjcf(const SceneSpec& spec);
+
+/// The object's base outline in its own frame (mm, counter-clockwise; a circle as a 48-gon),
+/// for plots.
+std::vector<Vec2> footprint(const ObjectSpec& object);
+/// Distance from the object's axis to its side face along +x_o (mm): where a push along −x_o
+/// meets it.
+double halfExtentX(const ObjectSpec& object);
 
 /// A sensor of a World driven as a robot: RobotInterface's commanded body twist in {s} moves
 /// the sensor's mocap body, X_ws ← X_ws exp(u dt), within speed and acceleration limits.

@@ -4,7 +4,10 @@
 //   true contact (ContactModel) → GDN-like (μ, σ) (GdnObservationModel)
 //   → fromTangentGaussian (eq:se3_inverse_transform) → DiscriminativeBayesFilter (alg:se3_bayes_filter)
 //   → controller (TactileServoController / PushingController / DualArmPushing, paper presets)
-//   → sensor body twist → SimulatedArm (X_ws ← X_ws exp(u Δt), sub-stepped) → world update.
+//   → sensor body twist → the arm (X_ws ← X_ws exp(u Δt), sub-stepped) → world update.
+//
+// Pushing (c, d) runs on MuJoCo (mujoco_world.hpp: MujocoSensorArm, the engine's contacts);
+// tracking (a) and following (b) on the kinematic SimulatedArm and analytic surfaces.
 //
 // Every task takes TaskOptions (rate, seed, output folder, duration scale) and returns a result
 // with the metrics, the success flag and a list of reasons when it failed.  With a non-empty
@@ -19,6 +22,7 @@
 #include "common.hpp"
 #include "contact_model.hpp"
 #include "observation_model.hpp"
+#include "mujoco_world.hpp"
 #include "simulated_arm.hpp"
 
 namespace lieservo::sim {
@@ -82,53 +86,46 @@ struct FollowingResult {
 };
 FollowingResult runSurfaceFollowing(const TaskOptions& opt);
 
-// ---- (c, d) pushing ------------------------------------------------------------------------
-struct SupportSurface {
-  std::string name;
-  double object_friction;      ///< μ_s object–support: f_max = μ_s m g
-  double pressure_factor;      ///< limit-surface ratio c = factor · c_uniform(footprint)
-  double pusher_friction;      ///< μ_c sensor skin–object, sliding (motion cone)
-  double holding_friction;     ///< μ_h: static hold of the opposite (stabilising) sensor
-};
-SupportSurface foamSurface();
-SupportSurface mdfSurface();
+// ---- (c, d) pushing, on MuJoCo (mujoco_world.hpp) -------------------------------------------
+using mujoco::ObjectSpec;
+using mujoco::SupportSpec;
 
-struct PushObject {
-  std::string name;
-  std::string shape;   ///< "square", "circle", "hexagon"
-  double size;         ///< side (square), radius (circle), circumradius (hexagon), mm
-  double height;       ///< mm
-  double mass;         ///< kg (paper Figures 8–9)
-};
-std::vector<PushObject> shortObjects();  ///< the four prisms of sec:single_arm_object_pushing_exp
-std::vector<PushObject> tallObjects();   ///< their double-height versions
+std::vector<ObjectSpec> shortObjects();    ///< the four prisms of sec:single_arm_object_pushing_exp
+std::vector<ObjectSpec> tallObjects();     ///< their double-height versions (Figure 9 masses)
+std::vector<ObjectSpec> everydayObjects(); ///< tall everyday-like objects from primitives
+/// The object's name for tables and plots ("blue_square" → "blue square").
+std::string displayName(const ObjectSpec& object);
 
 struct PushingSetup {
-  PushObject object;
-  SupportSurface surface;
+  ObjectSpec object;
+  SupportSpec surface = SupportSpec::mdf();
   bool dual_arm = false;
   bool tall = false;               ///< tall-object reference offsets (sec:dual_arm_tall_object_pushing)
-  double tip_stiffness = 0.8;      ///< N/mm: tip force per mm of depth
-  Vec2 start{-250, 100};           ///< sensor (y, z) in the work frame (mm)
-  Vec2 target{0, 375};             ///< (y, z)
-  double sensor_height = 45;       ///< x of the sensor axis above the support (mm)
+  double gel_stiffness = 1.0;      ///< N/mm (mujoco::SensorSpec::gel_stiffness)
+  Vec2 start{-250, 100};           ///< leader sensor (x, y) on the support (mm)
+  Vec2 target{0, 375};             ///< (x, y)
+  double sensor_height = 45;       ///< height of the sensor axis above the support (mm)
   double initial_depth = 1.0;      ///< leader contact depth at the start (mm)
   double follower_depth = 3.0;     ///< follower contact depth at the start (mm)
-  double timeout = 120;            ///< s
+  double timeout = 120;            ///< s; a trial also stops after 1 s with the leader out of contact
+  /// 0: the paper's follower (Table 9: no gain on the tangential y). > 0: the named variant
+  /// "follower + y": Kp on y (1/s), with z's Ki/Kp and Kd/Kp ratios (docs/simulation.md).
+  double follower_y_gain = 0;
   void validate() const;           ///< throws SceneError
 };
 struct PushTrial {
   double target_error = 0;      ///< perpendicular distance target ↔ contact normal (mm)
   double final_distance = 0;    ///< sensor centre ↔ target at the end (mm)
-  double duration = 0;          ///< s
+  double duration = 0;          ///< s (simulated)
   bool terminated = false;      ///< reached the termination radius
-  bool contact_kept = true;     ///< the pusher (leader) kept contact throughout
-  bool follower_contact_kept = true;     ///< dual arm: the follower kept contact throughout
+  bool contact_kept = true;     ///< the pusher (leader) was in contact at every control step
+  bool follower_contact_kept = true;     ///< dual arm: the follower was in contact at every step
   double follower_contact_fraction = 1;  ///< dual arm: fraction of control steps in contact
   double max_leader_depth = 0, max_follower_depth = 0, min_follower_depth = 1e9;
-  double sliding_fraction = 0;  ///< fraction of pushing sub-steps on a motion-cone edge
+  double max_tilt = 0;          ///< largest tilt of the object's axis from vertical (deg)
+  bool toppled = false;         ///< the tilt passed Bounds::topple_tilt (the trial stops)
   std::vector<Vec3> sensor_path, follower_path;  ///< (x, y, z) per control step
-  std::vector<Vec3> object_path;                 ///< (y, z, θ) per control step
+  std::vector<Vec3> object_path;                 ///< (x, y, θ) per control step
   std::vector<double> bearing, alignment_velocity;  ///< θ_s' (deg), alignment u_y (mm/s) per step
   std::vector<double> leader_depth, leader_tilt, follower_depth;  ///< true depth (mm), α (deg)
 };
@@ -138,25 +135,32 @@ struct PushingCase {
   double mean_error = 0, sd_error = 0;  ///< over the trials that reached the target
   int reached_trials = 0;          ///< trials that met the termination rule within the timeout
   int follower_kept_trials = 0;    ///< dual arm: trials in which the follower never lost contact
+  int toppled_trials = 0;
+  /// false: reported only (single-arm pushes of tall objects: how many topple).
+  bool judged = true;
   bool success = false;
   std::vector<std::string> failures;
-  std::vector<std::string> notes;  ///< reported, not failures (follower contact, see docs)
 };
-/// One trial (seeded: object placement jitter, friction ±10 %, GDN noise).
+/// One trial (seeded: object placement jitter ±2 mm / ±2°, support friction ±10 %, GDN noise).
 PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& opt, std::uint64_t trial_seed);
-/// `trials` seeded trials of one set-up (the paper: 5).
-PushingCase runPushingCase(const PushingSetup& setup, const TaskOptions& opt, int trials);
+/// `trials` seeded trials of one set-up (the paper: 5), judged against Bounds unless `judged`
+/// is false.
+PushingCase runPushingCase(const PushingSetup& setup, const TaskOptions& opt, int trials, bool judged = true);
 
 struct PushingResult {
   std::vector<PushingCase> cases;
+  double sim_time = 0;  ///< s simulated, all trials
   bool success = false;
   std::vector<std::string> failures;
-  std::vector<std::string> notes;
 };
 /// (c) the four short prisms on foam and MDF, single arm.
 PushingResult runSingleArmPushing(const TaskOptions& opt, int trials = 5);
-/// (d) dual arm: the short prisms on foam and MDF, then the tall prisms on MDF.
-PushingResult runDualArmPushing(const TaskOptions& opt, int trials = 5);
+/// (d) dual arm: the short prisms on foam and MDF, then the tall prisms and the everyday objects
+/// on MDF.
+PushingResult runDualArmPushing(const TaskOptions& opt, int trials = 5, double follower_y_gain = 0);
+/// The tall prisms and everyday objects pushed by one arm on MDF: reported (how many topple),
+/// not judged.
+PushingResult runTallSingleArmPushing(const TaskOptions& opt, int trials = 5);
 
 /// Paper values for the tables (mean, sd in mm); NaN when not reported.
 struct PaperValue {
@@ -177,10 +181,11 @@ struct Bounds {
   static constexpr double following_depth_max = 2.5;    ///< mm (< 3 mm ref: contact kept)
   static constexpr double following_tilt_mean = 3.0;    ///< deg
   static constexpr double following_tilt_max = 10.0;    ///< deg
-  // pushing
-  static constexpr double pushing_error_max = 20.0;     ///< mm, any trial: one tip radius
-  /// A pushing case passes if at most trials/5 trials (1 of the paper's 5) miss the target
-  /// (the push passes beside it and the 120 s timeout expires); misses are reported.
+  // pushing: every trial reaches the target within the timeout, every sensor keeps contact at
+  // every control step, and
+  static constexpr double pushing_error_max = 10.0;     ///< mm, any trial (paper worst mean 9.45)
+  static constexpr double upright_tilt_max = 10.0;      ///< deg: dual-arm pushes keep objects upright
+  static constexpr double topple_tilt = 45.0;           ///< deg: past this an object has toppled
 };
 
 }  // namespace lieservo::sim
