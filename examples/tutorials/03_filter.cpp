@@ -1,4 +1,4 @@
-// filter_tutorial.cpp — a step-by-step tutorial of the SE(3) discriminative Bayesian filter of
+// Tutorial 03 — the SE(3) discriminative Bayesian filter, step by step, of
 // Lloyd & Lepora, "Pose-and-shear-based tactile servoing" (Section sec:se3_bayes_filter,
 // Algorithm alg:se3_bayes_filter, Appendices B and C).
 //
@@ -17,8 +17,8 @@
 // It exits with status 1 if filtering did not reduce the error of every component (a
 // regression check run by CTest).
 //
-// Build and run:  cmake --build <build> --target lieservo_filter_tutorial &&
-//                 <build>/examples/worked/lieservo_filter_tutorial
+// Build and run:  cmake --build <build> --target lieservo_tutorial_03_filter &&
+//                 <build>/examples/tutorials/lieservo_tutorial_03_filter
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -35,8 +35,7 @@ using Gaussian = ConcentratedGaussian<G>;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
+constexpr double kDeg = pi<double>() / 180.0;
 
 Tangent gaussianVector(std::mt19937_64& rng, const Tangent& sigma) {
   std::normal_distribution<double> n01(0.0, 1.0);
