@@ -32,7 +32,7 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = lieservo::pi<double>();
 constexpr double kRad2Deg = 180.0 / kPi;
 constexpr double kDeg2Rad = kPi / 180.0;
 

@@ -28,7 +28,7 @@ using Tangent = G::Tangent;
 using Jacobian = G::Jacobian;
 
 namespace {
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
+constexpr double kDeg = lieservo::pi<double>() / 180.0;
 
 Jacobian randomCovariance(std::mt19937_64& rng, const Tangent& sigma) {
   std::normal_distribution<double> n01(0.0, 1.0);

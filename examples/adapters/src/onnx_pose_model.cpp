@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <lieservo/units.hpp>
 #include <lieservo_dataset/json.hpp>
 
 namespace lieservo::adapters {
@@ -16,7 +17,7 @@ using lieservo::dataset::DatasetError;
 using lieservo::dataset::JsonDocument;
 using lieservo::dataset::JsonValue;
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = lieservo::pi<double>();
 
 const char* kindName(ModelKind k) { return k == ModelKind::gdn ? "gdn" : "cnn"; }
 

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <limits>
 
+#include "../units.hpp"
+
 namespace lieservo {
 namespace detail {
 
@@ -69,7 +71,7 @@ inline double normalQuantile(double p) noexcept {
     const double f = normalCdf(z) - p;
     if (f == 0.0) return z;
     if (f > 0.0) hi = z; else lo = z;
-    const double pdf = std::exp(-0.5 * z * z) / std::sqrt(2.0 * 3.14159265358979323846);
+    const double pdf = std::exp(-0.5 * z * z) / std::sqrt(2.0 * pi<double>());
     double zn = (pdf > 0.0) ? z - f / pdf : 0.5 * (lo + hi);
     if (!(zn > lo && zn < hi)) zn = 0.5 * (lo + hi);
     if (std::abs(zn - z) <= 1e-15 * (1.0 + std::abs(z))) return zn;

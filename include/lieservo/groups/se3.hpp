@@ -133,7 +133,6 @@ class SE3 {
     // Horner in ad(ξ) = [[Φ, P], [0, Φ]] (Φ = φ^, P = ρ^), 3×3 blocks: every partial sum
     // r = [[D, U], [0, D]] keeps that shape, and ad·r = [[ΦD, ΦU + PD], [0, ΦD]], so a
     // step costs three 3×3 products instead of one dense 6×6 product (81 vs 216 multiplies).
-    using Real = detail::RealOf<Scalar>;
     constexpr detail::BernoulliTable<N> c;
     const Vector3 rho = xi.template head<3>(), phi = xi.template tail<3>();
     const Matrix3 Phi = detail::skew(phi);

@@ -137,8 +137,7 @@ class SO2 {
   template <class Rng>
   static SO2 sampleUniform(Rng& rng, Scalar translation_scale = Scalar(1)) {
     (void)translation_scale;
-    const double kPi = 3.141592653589793238462643383279502884;
-    return SO2(Scalar(kPi * (2.0 * detail::uniform01(rng) - 1.0)));
+    return SO2(Scalar(pi<double>() * (2.0 * detail::uniform01(rng) - 1.0)));
   }
 
  private:

@@ -31,7 +31,7 @@ class SceneError : public std::invalid_argument {
   explicit SceneError(const std::string& what) : std::invalid_argument("lieservo_sim: " + what) {}
 };
 
-inline constexpr double kPi = 3.14159265358979323846;
+inline constexpr double kPi = lieservo::pi<double>();
 inline constexpr double deg(double d) { return d * kPi / 180.0; }
 inline constexpr double toDeg(double r) { return r * 180.0 / kPi; }
 
