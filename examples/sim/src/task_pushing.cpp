@@ -70,19 +70,8 @@ struct EngineArm {
     sp.signed_distance = contact.params().tip_radius - g.depth;
     state = contact.update(pose(), X_wo, sp);
   }
-  Status observe(Gaussian& g) {
-    const GdnObservation obs = gdn.observe(state);
-    return lieservo::fromTangentGaussian<lieservo::ClosedFormJacobian>(obs.mu, obs.sigma, g);
-  }
-  Status sense(SE3d& X_sf) {
-    Gaussian g;
-    Status s = observe(g);
-    if (s != Status::ok) return s;
-    s = filter.step(pose(), g);  // the first step initialises
-    if (s != Status::ok && s != Status::outlier_rejected) return s;
-    X_sf = filter.filtered().mean;
-    return Status::ok;
-  }
+  Status observe(Gaussian& g) { return detail::observeContact(gdn, state, g); }
+  Status sense(SE3d& X_sf) { return detail::senseContact(gdn, state, filter, pose(), X_sf); }
 };
 
 Vec3 objectPlanar(const SE3d& X) {
