@@ -134,11 +134,10 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  std::printf("lieservo simulation demo: control %.0f Hz, %d sub-steps, seed %llu, GDN calibration: %s\n"
-              "observations: the calibrated Gaussian GDN model; pushing on MuJoCo (skin friction %.2f),\n"
-              "tracking and following on the kinematic arm and analytic surfaces\n",
-              opt.control_rate, opt.substeps, static_cast<unsigned long long>(opt.seed), opt.calibration.source.c_str(),
-              opt.contact.skin_friction);
+  std::printf("lieservo simulation demo: all four tasks on MuJoCo (2.5 ms steps), control %.0f Hz, seed %llu,\n"
+              "skin friction %.2f; observations: the calibrated Gaussian GDN model (%s)\n",
+              opt.control_rate, static_cast<unsigned long long>(opt.seed), opt.contact.skin_friction,
+              opt.calibration.source.c_str());
   const auto t_all = Clock::now();
   std::vector<Row> rows;
   std::vector<std::string> failures;

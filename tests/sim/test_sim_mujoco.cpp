@@ -1,7 +1,8 @@
 // The MuJoCo world (examples/sim mujoco_world.hpp) against hand calculations: a pushed box
 // slides when the push exceeds μ m g and not before; a tall box topples when pushed above its
 // tipping height and not below; the tip's contact depth and the gel's force per mm; the
-// sensor arm's twist integration; bad scene input named in the error.
+// fixtures (dome, curved ramp, carried plate) against their analytic surfaces; the sensor arm's
+// twist integration; bad scene input named in the error.
 // Bounds are written from the hand calculations before running.
 #include <catch2/catch.hpp>
 
@@ -9,6 +10,7 @@
 #include <string>
 
 #include <lieservo_sim/mujoco_world.hpp>
+#include <lieservo_sim/sensor_arm.hpp>
 
 using namespace lieservo::sim;
 using namespace lieservo::sim::mujoco;
@@ -163,6 +165,107 @@ TEST_CASE("mujoco: tip geometry on every object shape (box, rectangle, cylinder,
   }
 }
 
+namespace {
+// A sensor whose axis points along −n at the surface point p, its nominal tip `depth` inside.
+SensorSpec tipAt(const Vec3& p, const Vec3& n, double depth) {
+  SensorSpec tip;
+  tip.name = "tip";
+  const Vec3 z = -n, x = z.unitOrthogonal();
+  tip.initial_pose = makePose(fromColumns(x, z.cross(x), z), p + (20 - depth) * n);
+  return tip;
+}
+}  // namespace
+
+TEST_CASE("mujoco: fixtures against their analytic surfaces (dome, curved ramp)", "[sim][mujoco]") {
+  // Dome: MuJoCo's analytic sphere–sphere, so point, normal and depth to rounding (1e-9).
+  const double a = 80;
+  for (const double theta : {0.0, 30.0, 50.0, 80.0}) {
+    SceneSpec s;
+    FixtureSpec dome;
+    dome.name = "dome";
+    dome.shape = "dome";
+    dome.size = a;
+    s.fixtures = {dome};
+    const Vec3 u(std::sin(deg(theta)) * std::cos(1.0), std::sin(deg(theta)) * std::sin(1.0), std::cos(deg(theta)));
+    s.sensors = {tipAt(a * u, u, 3.0)};
+    World w(s);
+    const TipGeometry geo = w.tipGeometry(0);
+    INFO("theta " << theta);
+    REQUIRE(geo.valid);
+    CHECK(geo.fixture == 0);
+    CHECK(geo.object == -1);
+    CHECK((geo.normal_w - u).norm() < 1e-9);
+    CHECK((geo.point_w - a * u).norm() < 1e-6);
+    CHECK(geo.depth == Approx(3.0).margin(1e-6));
+  }
+  // Ramp (H 40, L 200, 100 chords): the tip 3 mm into the cosine profile at points on the flat
+  // top, the convex part, the inflection, the concave part and the flat bottom. The chords sit
+  // within H π² L / (16 · 100²) = 5 µm of the arc (bound 0.02 mm on depth and point) and their
+  // normals turn by h''_max L / 100 = 0.0099 rad from one chord to the next (bound 0.006 rad:
+  // half a step, with margin).
+  FixtureSpec ramp;
+  ramp.name = "ramp";
+  ramp.shape = "ramp";
+  ramp.size = 40;
+  ramp.size2 = 200;
+  for (const double y : {-20.0, 30.0, 100.0, 137.0, 170.0, 230.0}) {
+    const double h = rampHeight(ramp, y);
+    const double slope = (y <= 0 || y >= 200) ? 0.0 : -40 * lieservo::sim::kPi / 400 * std::sin(lieservo::sim::kPi * y / 200);
+    const Vec3 n = Vec3(0, -slope, 1).normalized();
+    SceneSpec s;
+    s.fixtures = {ramp};
+    s.sensors = {tipAt(Vec3(5, y, h), n, 3.0)};
+    World w(s);
+    const TipGeometry geo = w.tipGeometry(0);
+    INFO("y " << y << " normal " << geo.normal_w.transpose() << " point " << geo.point_w.transpose());
+    REQUIRE(geo.valid);
+    CHECK(geo.fixture == 0);
+    CHECK(std::acos(std::min(1.0, geo.normal_w.dot(n))) < 0.006);
+    CHECK((geo.point_w - Vec3(5, y, h)).norm() < 0.02 + 20 * 0.006);  // the normal's error moves the point
+    CHECK(geo.depth == Approx(3.0).margin(0.02));
+  }
+}
+
+TEST_CASE("mujoco: a carried plate follows its leader; fixed fixtures refuse; reset", "[sim][mujoco]") {
+  SceneSpec s;
+  FixtureSpec plate;
+  plate.name = "plate";
+  plate.carried = true;
+  FixtureSpec dome;
+  dome.name = "dome";
+  dome.shape = "dome";
+  dome.size = 50;
+  dome.pose = makePose(Mat3::Identity(), Vec3(500, 0, 0));
+  s.fixtures = {plate, dome};
+  s.sensors = {tipAt(Vec3::Zero(), Vec3::UnitZ(), 2.0)};
+  World w(s);
+  TipGeometry geo = w.tipGeometry(0);
+  REQUIRE(geo.valid);
+  CHECK(geo.fixture == 0);
+  CHECK(geo.depth == Approx(2.0).margin(1e-9));
+  // The leader lifts the plate by 1.5 mm and tilts it by 10° about x through its centre.
+  const SE3d X = makePose(rotX(deg(10)), Vec3(0, 0, 1.5));
+  REQUIRE(w.setFixturePose(0, X) == Status::ok);
+  CHECK((w.fixturePose(0).translation() - X.translation()).norm() < 1e-9);
+  CHECK((w.fixturePose(0).rotationMatrix() - X.rotationMatrix()).norm() < 1e-9);
+  geo = w.tipGeometry(0);
+  // Tip centre (0, 0, 18) against the plane through (0, 0, 1.5) with normal Rx(10°) z.
+  const Vec3 n = rotX(deg(10)).col(2);
+  CHECK((geo.normal_w - n).norm() < 1e-9);
+  CHECK(geo.depth == Approx(20 - n.dot(Vec3(0, 0, 18) - Vec3(0, 0, 1.5))).margin(1e-9));
+  // A fixed fixture does not move; bad poses are refused; nothing changes.
+  CHECK(w.setFixturePose(1, X) == Status::invalid_argument);
+  CHECK(w.setFixturePose(2, X) == Status::invalid_argument);
+  CHECK(w.setFixturePose(0, SE3d::fromMatrixUnchecked(2 * Eigen::Matrix4d::Identity())) == Status::not_orthonormal);
+  CHECK((w.fixturePose(1).translation() - Vec3(500, 0, 0)).norm() < 1e-9);
+  CHECK((w.fixturePose(0).translation() - X.translation()).norm() < 1e-9);
+  // reset: back to the scene as built.
+  REQUIRE(w.step(0.1) == Status::ok);
+  w.reset();
+  CHECK(w.fixturePose(0).translation().norm() < 1e-12);
+  CHECK((w.sensorPose(0).translation() - s.sensors[0].initial_pose.translation()).norm() < 1e-9);
+}
+
 TEST_CASE("mujoco: the sensor arm integrates the body twist within its limits", "[sim][mujoco]") {
   SceneSpec s;
   SensorSpec tip;
@@ -230,4 +333,22 @@ TEST_CASE("mujoco: bad scene input names the parameter", "[sim][mujoco]") {
   s.sensors[0].name = "tip";
   s.sensors[0].initial_pose = lieservo::SE3<double>::fromMatrixUnchecked(2 * Eigen::Matrix4d::Identity());
   throwsWith(s, "initial_pose");
+  s = SceneSpec{};
+  FixtureSpec f;
+  f.shape = "cone";
+  s.fixtures = {f};
+  throwsWith(s, "unknown shape 'cone'");
+  s.fixtures[0] = FixtureSpec{};
+  s.fixtures[0].size = -1;
+  throwsWith(s, "fixture 'fixture' size");
+  s.fixtures[0] = FixtureSpec{};
+  s.fixtures[0].shape = "ramp";
+  s.fixtures[0].segments = 0;
+  throwsWith(s, "segments");
+  s.fixtures[0] = FixtureSpec{};
+  s.fixtures[0].friction = -0.1;
+  throwsWith(s, "friction");
+  s.fixtures[0] = FixtureSpec{};
+  s.fixtures[0].pose.translation() = Vec3(std::nan(""), 0, 0);
+  throwsWith(s, "pose");
 }

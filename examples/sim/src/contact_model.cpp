@@ -18,11 +18,6 @@ void ContactParams::validate() const {
   requireNonNegative(skin_friction, "ContactParams.skin_friction");
 }
 
-ContactModel::ContactModel(const Surface& surface, const ContactParams& params)
-    : surface_(&surface), params_(params) {
-  params_.validate();
-}
-
 ContactModel::ContactModel(const ContactParams& params) : params_(params) { params_.validate(); }
 
 double ContactModel::slipRadius(double depth) const {
@@ -44,7 +39,7 @@ ContactModel::Anchor ContactModel::newAnchor(const SurfacePoint& sp, const SE3d&
   return a;
 }
 
-ContactState ContactModel::evaluate(const SE3d& X_ws, const SE3d& X_wo, const Anchor& a, const SurfacePoint& sp,
+ContactState ContactModel::evaluate(const SE3d& X_wo, const Anchor& a, const SurfacePoint& sp,
                                     const SE3d& X_os) const {
   ContactState st;
   const double R = params_.tip_radius;
@@ -67,21 +62,7 @@ ContactState ContactModel::evaluate(const SE3d& X_ws, const SE3d& X_wo, const An
   st.twist = eulerXYZ(st.X_fs.rotationMatrix())[2];
   st.point_w = X_wo * sp.point;
   st.normal_w = X_wo.rotationMatrix() * n;
-  (void)X_ws;
   return st;
-}
-
-ContactState ContactModel::peek(const SE3d& X_ws, const SE3d& X_wo) const {
-  if (!surface_) return {};
-  const SE3d X_os = X_wo.inverse() * X_ws;
-  const SurfacePoint sp = surface_->closest(X_os.translation());
-  const Anchor a = anchored_ ? anchor_ : newAnchor(sp, X_os);
-  return evaluate(X_ws, X_wo, a, sp, X_os);
-}
-
-ContactState ContactModel::update(const SE3d& X_ws, const SE3d& X_wo) {
-  if (!surface_) return {};
-  return update(X_ws, X_wo, surface_->closest(X_wo.inverse() * X_ws.translation()));
 }
 
 ContactState ContactModel::update(const SE3d& X_ws, const SE3d& X_wo, const SurfacePoint& sp) {
@@ -89,13 +70,13 @@ ContactState ContactModel::update(const SE3d& X_ws, const SE3d& X_wo, const Surf
   const double depth = params_.tip_radius - sp.signed_distance;
   if (depth <= 0) {
     anchored_ = false;
-    return evaluate(X_ws, X_wo, newAnchor(sp, X_os), sp, X_os);
+    return evaluate(X_wo, newAnchor(sp, X_os), sp, X_os);
   }
   if (!anchored_) {
     anchor_ = newAnchor(sp, X_os);
     anchored_ = true;
   }
-  ContactState st = evaluate(X_ws, X_wo, anchor_, sp, X_os);
+  ContactState st = evaluate(X_wo, anchor_, sp, X_os);
   bool slipped = false;
   // Translational slip: slide the anchor so that |s| = r_slip.
   const double r = st.shear.norm();
@@ -107,7 +88,7 @@ ContactState ContactModel::update(const SE3d& X_ws, const SE3d& X_wo, const Surf
     const Vec3 yf = zf.cross(xf);
     const double f = 1.0 - rs / r;
     const Vec3 p_new = anchor_.p + f * (st.shear.x() * xf + st.shear.y() * yf);
-    anchor_.p = surface_ ? surface_->closest(p_new).point : p_new;  // stay on the surface
+    anchor_.p = p_new;
     slipped = true;
   }
   // Rotational slip about the normal: |γ| ≤ γ_max.
@@ -117,7 +98,7 @@ ContactState ContactModel::update(const SE3d& X_ws, const SE3d& X_wo, const Surf
     anchor_.t = Eigen::AngleAxisd(excess, zf) * anchor_.t;
     slipped = true;
   }
-  if (slipped) st = evaluate(X_ws, X_wo, anchor_, sp, X_os);
+  if (slipped) st = evaluate(X_wo, anchor_, sp, X_os);
   st.slipped = slipped;
   return st;
 }

@@ -27,6 +27,9 @@ constexpr const char* kContactSolref = "0.005 1";  // s, damping ratio: a stiff 
 constexpr const char* kContactSolimp = "0.99 0.99 0.001";  // constant impedance near 1: stiff
 
 const char* const kShapes[] = {"square", "rectangle", "circle", "hexagon"};
+const char* const kFixtureShapes[] = {"plate", "dome", "ramp"};
+constexpr double kRampFlat = 80;   // mm of flat ramp before and after the curved part
+constexpr double kRampSlab = 20;   // mm: thickness of the ramp's boxes (deeper than any contact)
 
 std::string num(double v) {
   std::ostringstream s;
@@ -82,6 +85,21 @@ void SceneSpec::validate() const {
     if (!std::isfinite(o.x) || !std::isfinite(o.y) || !std::isfinite(o.yaw))
       throw SceneError(p + "position and yaw must be finite");
   }
+  for (const FixtureSpec& f : fixtures) {
+    requireName(f.name, "fixture");
+    if (!names.insert(f.name).second) throw SceneError("duplicate name '" + f.name + "'");
+    if (std::find(std::begin(kFixtureShapes), std::end(kFixtureShapes), f.shape) == std::end(kFixtureShapes))
+      throw SceneError("fixture '" + f.name + "': unknown shape '" + f.shape + "' (plate, dome or ramp)");
+    const std::string p = "fixture '" + f.name + "' ";
+    requirePositive(f.size, (p + "size").c_str());
+    if (f.shape != "dome") requirePositive(f.size2, (p + "size2").c_str());
+    if (f.shape == "ramp") {
+      requirePositive(f.width, (p + "width").c_str());
+      if (f.segments < 1 || f.segments > 1000) throw SceneError(p + "segments must be in [1, 1000]");
+    }
+    requireNonNegative(f.friction, (p + "friction").c_str());
+    requireValidPose(f.pose, (p + "pose").c_str());
+  }
   for (const SensorSpec& s : sensors) {
     requireName(s.name, "sensor");
     if (!names.insert(s.name).second) throw SceneError("duplicate name '" + s.name + "'");
@@ -92,6 +110,46 @@ void SceneSpec::validate() const {
     requireValidPose(s.initial_pose, (p + "initial_pose").c_str());
   }
 }
+
+double rampHeight(const FixtureSpec& f, double y) {
+  if (y <= 0) return f.size;
+  if (y >= f.size2) return 0;
+  return 0.5 * f.size * (1 + std::cos(kPi * y / f.size2));
+}
+
+namespace {
+
+// A box geom (half sizes hx, hy, hz in mm) centred at c (mm), rotated by α about x.
+std::string boxGeom(const std::string& name, double hx, double hy, double hz, const Vec3& c, double alpha,
+                    const std::string& extra) {
+  return "      <geom name=\"" + name + "\" type=\"box\" size=\"" + num(hx * kMm) + " " + num(hy * kMm) + " " +
+         num(hz * kMm) + "\" pos=\"" + num(c.x() * kMm) + " " + num(c.y() * kMm) + " " + num(c.z() * kMm) +
+         "\" quat=\"" + quatOf(rotX(alpha)) + "\" " + extra + "/>\n";
+}
+
+// The geoms of a fixture in its body frame. They touch nothing but the sensor tips (explicit
+// pairs), so they neither rest on the support nor collide with each other.
+std::string fixtureGeoms(const FixtureSpec& f) {
+  const std::string extra = "contype=\"0\" conaffinity=\"0\" rgba=\"0.6 0.6 0.65 1\"";
+  if (f.shape == "plate") return boxGeom(f.name, f.size / 2, f.size / 2, f.size2 / 2, Vec3(0, 0, -f.size2 / 2), 0, extra);
+  if (f.shape == "dome")
+    return "      <geom name=\"" + f.name + "\" type=\"sphere\" size=\"" + num(f.size * kMm) + "\" " + extra + "/>\n";
+  // Ramp: the flat top, the chords of the curved part, the flat bottom; each box's top face
+  // is the surface, its thickness kRampSlab below it.
+  const double hw = f.width / 2, t = kRampSlab / 2;
+  std::string g = boxGeom(f.name + "_top", hw, kRampFlat / 2, t, Vec3(0, -kRampFlat / 2, f.size - t), 0, extra);
+  for (int i = 0; i < f.segments; ++i) {
+    const double y0 = f.size2 * i / f.segments, y1 = f.size2 * (i + 1) / f.segments;
+    const double z0 = rampHeight(f, y0), z1 = rampHeight(f, y1);
+    const double a = std::atan2(z1 - z0, y1 - y0), len = std::hypot(y1 - y0, z1 - z0);
+    const Vec3 n(0, -std::sin(a), std::cos(a));  // the chord's upward normal
+    const Vec3 c = Vec3(0, (y0 + y1) / 2, (z0 + z1) / 2) - t * n;
+    g += boxGeom(f.name + "_" + std::to_string(i), hw, len / 2, t, c, a, extra);
+  }
+  return g + boxGeom(f.name + "_bottom", hw, kRampFlat / 2, t, Vec3(0, f.size2 + kRampFlat / 2, -t), 0, extra);
+}
+
+}  // namespace
 
 std::string sceneMjcf(const SceneSpec& spec) {
   spec.validate();
@@ -129,6 +187,12 @@ std::string sceneMjcf(const SceneSpec& spec) {
     x << "      <geom name=\"" << o.name << "\" " << geom << " mass=\"" << num(o.mass)
       << "\" condim=\"4\" friction=\"0 0 0\"/>\n    </body>\n";
   }
+  for (const FixtureSpec& f : spec.fixtures) {
+    const Vec3 p = f.pose.translation() * kMm;
+    x << "    <body name=\"" << f.name << "\" pos=\"" << num(p.x()) << " " << num(p.y()) << " " << num(p.z())
+      << "\" quat=\"" << quatOf(f.pose.rotationMatrix()) << "\"" << (f.carried ? " mocap=\"true\"" : "") << ">\n"
+      << fixtureGeoms(f) << "    </body>\n";
+  }
   for (const SensorSpec& s : spec.sensors) {
     // The arm's nominal tip: a mocap body, moved by the arm, not by forces; its "probe" sphere
     // touches nothing (contype/conaffinity 0, no pairs) and gives the tactile depth
@@ -148,14 +212,24 @@ std::string sceneMjcf(const SceneSpec& spec) {
       << num(kTipMass) << "\" contype=\"0\" conaffinity=\"0\" rgba=\"0.9 0.9 0.9 1\"/>\n      </body>\n    </body>\n";
   }
   x << "  </worldbody>\n";
-  if (!spec.sensors.empty() && !spec.objects.empty()) {
+  std::vector<std::pair<std::string, double>> touchable;  // geom name, μ_c
+  for (const ObjectSpec& o : spec.objects) touchable.emplace_back(o.name, o.friction);
+  for (const FixtureSpec& f : spec.fixtures) {
+    if (f.shape != "ramp") {
+      touchable.emplace_back(f.name, f.friction);
+      continue;
+    }
+    touchable.emplace_back(f.name + "_top", f.friction);
+    for (int i = 0; i < f.segments; ++i) touchable.emplace_back(f.name + "_" + std::to_string(i), f.friction);
+    touchable.emplace_back(f.name + "_bottom", f.friction);
+  }
+  if (!spec.sensors.empty() && !touchable.empty()) {
     x << "  <contact>\n";
     for (const SensorSpec& s : spec.sensors)
-      for (const ObjectSpec& o : spec.objects) {
-        x << "    <pair geom1=\"" << s.name << "\" geom2=\"" << o.name << "\" condim=\"4\" friction=\""
-          << num(o.friction) << " " << num(o.friction) << " 0.005 0.0001 0.0001\" solref=\"" << kContactSolref
-          << "\" solimp=\"" << kContactSolimp << "\"/>\n";
-      }
+      for (const auto& [geom, mu] : touchable)
+        x << "    <pair geom1=\"" << s.name << "\" geom2=\"" << geom << "\" condim=\"4\" friction=\"" << num(mu)
+          << " " << num(mu) << " 0.005 0.0001 0.0001\" solref=\"" << kContactSolref << "\" solimp=\""
+          << kContactSolimp << "\"/>\n";
     x << "  </contact>\n";
   }
   x << "</mujoco>\n";
@@ -202,6 +276,12 @@ World::World(const SceneSpec& spec) : spec_(spec) {
     object_qpos_.push_back(m_->jnt_qposadr[m_->body_jntadr[b]]);
     object_dof_.push_back(m_->jnt_dofadr[m_->body_jntadr[b]]);
   }
+  for (const FixtureSpec& f : spec_.fixtures) {
+    const int b = mj_name2id(m_, mjOBJ_BODY, f.name.c_str());
+    fixture_body_.push_back(b);
+    fixture_mocap_.push_back(m_->body_mocapid[b]);
+    fixture_geoms_.emplace_back(m_->body_geomadr[b], m_->body_geomadr[b] + m_->body_geomnum[b]);
+  }
   for (const SensorSpec& s : spec_.sensors) {
     const int b = mj_name2id(m_, mjOBJ_BODY, s.name.c_str());
     sensor_mocap_.push_back(m_->body_mocapid[b]);
@@ -214,6 +294,11 @@ World::World(const SceneSpec& spec) : spec_(spec) {
 World::~World() {
   mj_deleteData(d_);
   mj_deleteModel(m_);
+}
+
+void World::reset() noexcept {
+  mj_resetData(m_, d_);
+  mj_forward(m_, d_);
 }
 
 Status World::step(double dt) noexcept {
@@ -251,6 +336,32 @@ void World::applyObjectForce(int i, const Vec3& force_w, const Vec3& point_w) no
 
 void World::clearForces() noexcept { std::fill(d_->xfrc_applied, d_->xfrc_applied + 6 * m_->nbody, 0.0); }
 
+SE3d World::fixturePose(int j) const noexcept {
+  const int b = fixture_body_[size_t(j)];
+  Mat3 R;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) R(r, c) = d_->xmat[9 * b + 3 * r + c];
+  const Eigen::Quaterniond q(R);  // re-orthonormalised
+  return makePose(q.normalized().toRotationMatrix(), Vec3(d_->xpos[3 * b], d_->xpos[3 * b + 1], d_->xpos[3 * b + 2]) / kMm);
+}
+
+Status World::setFixturePose(int j, const SE3d& X_wo) noexcept {
+  if (j < 0 || j >= fixtureCount() || fixture_mocap_[size_t(j)] < 0) return Status::invalid_argument;
+  const Status v = validateElement(X_wo);
+  if (v != Status::ok) return v;
+  setMocap(fixture_mocap_[size_t(j)], X_wo);
+  return Status::ok;
+}
+
+void World::setMocap(int id, const SE3d& X) noexcept {
+  const Vec3 p = X.translation() * kMm;
+  const Eigen::Quaterniond quat(X.rotationMatrix());
+  std::copy(p.data(), p.data() + 3, d_->mocap_pos + 3 * id);
+  const double q[4] = {quat.w(), quat.x(), quat.y(), quat.z()};
+  std::copy(q, q + 4, d_->mocap_quat + 4 * id);
+  mj_kinematics(m_, d_);
+}
+
 SE3d World::sensorPose(int s) const noexcept {
   const int id = sensor_mocap_[size_t(s)];
   const double* p = d_->mocap_pos + 3 * id;
@@ -262,45 +373,46 @@ SE3d World::sensorPose(int s) const noexcept {
 Status World::setSensorPose(int s, const SE3d& X_ws) noexcept {
   const Status v = validateElement(X_ws);
   if (v != Status::ok) return v;
-  const int id = sensor_mocap_[size_t(s)];
-  const Vec3 p = X_ws.translation() * kMm;
-  const Eigen::Quaterniond quat(X_ws.rotationMatrix());
-  std::copy(p.data(), p.data() + 3, d_->mocap_pos + 3 * id);
-  const double q[4] = {quat.w(), quat.x(), quat.y(), quat.z()};
-  std::copy(q, q + 4, d_->mocap_quat + 4 * id);
-  mj_kinematics(m_, d_);
+  setMocap(sensor_mocap_[size_t(s)], X_ws);
   return Status::ok;
 }
 
 TipGeometry World::tipGeometry(int s, double range) const noexcept {
   TipGeometry best;
   const int tip = sensor_probe_[size_t(s)];  // the nominal tip: depth = the gel's deformation
+  const Vec3 c(d_->geom_xpos[3 * tip], d_->geom_xpos[3 * tip + 1], d_->geom_xpos[3 * tip + 2]);
+  const double R = m_->geom_size[3 * tip];
   double best_dist = range * kMm;
-  for (int i = 0; i < objectCount(); ++i) {
-    const int g = object_geom_[size_t(i)];
+  auto consider = [&](int g, int object, int fixture) {
+    // Bounding spheres first: most of a ramp's boxes are far from the tip.
+    const Vec3 gc(d_->geom_xpos[3 * g], d_->geom_xpos[3 * g + 1], d_->geom_xpos[3 * g + 2]);
+    if ((gc - c).norm() - m_->geom_rbound[g] - R > best_dist) return;
     // MuJoCo's collision table is filled for type(g1) ≤ type(g2); its normal points from g1
-    // to g2, so it is the object's outward normal when the object is g1.
+    // to g2, so it is the surface's outward normal when the object is g1.
     const bool object_first = m_->geom_type[g] <= m_->geom_type[tip];
     const int g1 = object_first ? g : tip, g2 = object_first ? tip : g;
     mjfCollision f = mjCOLLISIONFUNC[m_->geom_type[g1]][m_->geom_type[g2]];
-    if (!f) continue;
+    if (!f) return;
     mjContact con[mjMAXCONPAIR];
-    const int n = f(m_, d_, con, g1, g2, range * kMm);
+    const int n = f(m_, d_, con, g1, g2, best_dist);
     for (int k = 0; k < n; ++k) {
       if (con[k].dist >= best_dist) continue;
       best_dist = con[k].dist;
       Vec3 normal(con[k].frame[0], con[k].frame[1], con[k].frame[2]);
       if (!object_first) normal = -normal;
-      // The object's surface point: from the tip centre c, back along the normal by the
-      // distance R − depth (con.pos is not reliably midway for the general convex collider).
-      const Vec3 c(d_->geom_xpos[3 * tip], d_->geom_xpos[3 * tip + 1], d_->geom_xpos[3 * tip + 2]);
+      // The surface point: from the tip centre c, back along the normal by the distance
+      // R − depth (con.pos is not reliably midway for the general convex collider).
       best.valid = true;
-      best.object = i;
+      best.object = object;
+      best.fixture = fixture;
       best.normal_w = normal;
-      best.point_w = (c - (m_->geom_size[3 * tip] + con[k].dist) * normal) / kMm;
+      best.point_w = (c - (R + con[k].dist) * normal) / kMm;
       best.depth = -con[k].dist / kMm;
     }
-  }
+  };
+  for (int i = 0; i < objectCount(); ++i) consider(object_geom_[size_t(i)], i, -1);
+  for (int j = 0; j < fixtureCount(); ++j)
+    for (int g = fixture_geoms_[size_t(j)].first; g < fixture_geoms_[size_t(j)].second; ++g) consider(g, -1, j);
   return best;
 }
 
@@ -314,33 +426,6 @@ double World::tipNormalForce(int s) const noexcept {
     f += r[0];
   }
   return f;
-}
-
-MujocoSensorArm::MujocoSensorArm(World& world, int sensor, const ArmLimits& limits)
-    : world_(&world), sensor_(sensor), limits_(limits) {
-  if (sensor < 0 || sensor >= world.sensorCount()) throw SceneError("MujocoSensorArm: no sensor " + std::to_string(sensor));
-  limits_.validate();
-}
-
-Status MujocoSensorArm::readPose(SE3d& X_ws) {
-  X_ws = world_->sensorPose(sensor_);
-  return Status::ok;
-}
-
-Status MujocoSensorArm::commandVelocity(const SE3d::Tangent& twist_s, double dt) {
-  if (!(dt > 0) || !std::isfinite(dt)) return Status::invalid_time_step;
-  if (!twist_s.allFinite()) return Status::non_finite_input;
-  const SE3d::Tangent applied = limitTwist(twist_s, applied_, limits_, dt);
-  const SE3d X = world_->sensorPose(sensor_) * SE3d::exp(applied * dt);  // body twist: right
-  const Status s = world_->setSensorPose(sensor_, X);
-  if (s == Status::ok) applied_ = applied;
-  return s;
-}
-
-Status MujocoSensorArm::moveTo(const SE3d& X_ws) {
-  const Status s = world_->setSensorPose(sensor_, X_ws);
-  if (s == Status::ok) applied_.setZero();
-  return s;
 }
 
 }  // namespace lieservo::sim::mujoco

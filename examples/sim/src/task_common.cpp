@@ -10,7 +10,6 @@ namespace lieservo::sim {
 void TaskOptions::validate() const {
   requirePositive(control_rate, "TaskOptions.control_rate");
   if (control_rate > 1000) throw SceneError("TaskOptions.control_rate must be <= 1000 Hz");
-  if (substeps < 1 || substeps > 100) throw SceneError("TaskOptions.substeps must be in [1, 100]");
   requirePositive(duration_scale, "TaskOptions.duration_scale");
   if (duration_scale > 10) throw SceneError("TaskOptions.duration_scale must be <= 10");
   calibration.validate();

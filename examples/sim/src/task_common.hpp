@@ -9,8 +9,9 @@
 
 #include "lieservo_sim/contact_model.hpp"
 #include "lieservo_sim/observation_model.hpp"
+#include "lieservo_sim/mujoco_world.hpp"
 #include "lieservo_sim/plot.hpp"
-#include "lieservo_sim/simulated_arm.hpp"
+#include "lieservo_sim/sensor_arm.hpp"
 #include "lieservo_sim/tasks.hpp"
 
 namespace lieservo::sim::detail {
@@ -38,22 +39,41 @@ inline Status senseContact(GdnObservationModel& gdn, const ContactState& state, 
   return Status::ok;
 }
 
-/// One sensorised arm: kinematic arm, contact model, GDN-like observations, Bayes filter.
-struct SensorArm {
-  SimulatedArm arm;
+/// MuJoCo's step (s); the arms move once per step, 20 steps per 20 Hz control period.
+inline constexpr double kTimestep = 0.0025;
+
+/// One sensorised arm in the MuJoCo world: the arm, the tactile contact state, GDN-like
+/// observations and the Bayes filter.
+struct EngineArm {
+  MujocoSensorArm arm;
   ContactModel contact;
   GdnObservationModel gdn;
   Filter filter;
   ContactState state;
 
-  SensorArm(const SE3d& X0, const Surface& surface, const TaskOptions& opt, std::uint64_t seed)
-      : arm(X0, opt.arm), contact(surface, opt.contact), gdn(opt.calibration, {}, seed) {
-    arm.stop();
+  EngineArm(mujoco::World& w, int sensor, const TaskOptions& opt, std::uint64_t seed)
+      : arm(w, sensor, opt.arm), contact(opt.contact), gdn(opt.calibration, {}, seed) {}
+
+  SE3d pose() const { return arm.pose(); }
+  /// The contact from the engine's nearest surface point (nothing in range: no contact).
+  void touch(const mujoco::World& w) {
+    const mujoco::TipGeometry g = w.tipGeometry(arm.sensor());
+    if (!g.valid) {
+      contact.release();
+      state = ContactState{};
+      state.depth = -1e3;
+      return;
+    }
+    const SE3d X_wo = g.object >= 0 ? w.objectPose(g.object) : w.fixturePose(g.fixture);
+    SurfacePoint sp;
+    sp.point = X_wo.inverse() * g.point_w;
+    sp.normal = X_wo.rotationMatrix().transpose() * g.normal_w;
+    sp.signed_distance = contact.params().tip_radius - g.depth;
+    state = contact.update(pose(), X_wo, sp);
   }
-  /// Updates the true contact (stick/slip anchor) for object pose X_wo.
-  void touch(const SE3d& X_wo) { state = contact.update(arm.pose(), X_wo); }
   Status observe(Gaussian& g) { return observeContact(gdn, state, g); }
-  Status sense(SE3d& X_sf) { return senseContact(gdn, state, filter, arm.pose(), X_sf); }
+  Status sense(SE3d& X_sf) { return senseContact(gdn, state, filter, pose(), X_sf); }
+  /// A new start: the filter forgets, the next contact starts unsheared.
   void resetEstimation() {
     filter = Filter();
     contact.release();

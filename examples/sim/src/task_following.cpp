@@ -1,15 +1,15 @@
-// Task (b): surface following (paper sec:surface_follow_exp), Table 7 controller
+// Task (b): surface following (paper sec:surface_follow_exp), on MuJoCo, Table 7 controller
 // (reference (0, 0, 3, 0, 0, 0): normal contact at 3 mm depth) with feedforward
 // u_s'2 = (10 cos θ, 10 sin θ, 0, 0, 0, 0) mm/s in the reference sensor frame, mapped into the
 // sensor frame with Ad(X_ss') inside TactileServoController (sec:servoing_controller).
 //
-//  * curved ramp (RampSurface, H = 40 mm, L = 200 mm: a convex-then-concave cosine profile,
-//    slope up to 17.4°): start on the top at 3 mm depth with the sensor y-axis along the
+//  * curved ramp (a fixed "ramp" fixture, H = 40 mm, L = 200 mm: a convex-then-concave cosine
+//    profile, slope up to 17.4°): start on the top at 3 mm depth with the sensor y-axis along the
 //    ramp (work +y), heading θ = 90° (u = (0, 10, 0, …)), until the contact passes y = L + 30.
-//  * hemispherical dome (SphereSurface, radius 80 mm): start on the top at 3 mm depth,
-//    8 radial paths θ_i = 0, 45°, …, 315°, each until the contact is 50° from the pole
-//    (70 mm of arc); between paths the arm returns to the start and the filter, controller
-//    and contact anchor are reset.
+//  * hemispherical dome (a fixed "dome" fixture, radius 80 mm): start on the top at 3 mm
+//    depth, 8 radial paths θ_i = 0, 45°, …, 315°, each until the contact is 50° from the pole
+//    (70 mm of arc); between paths the world returns to its start (World::reset) and the
+//    filter, controller and contact anchor are reset.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -31,12 +31,13 @@ struct PathLog {
 
 // Runs one following path; `done` decides the end from the contact state.
 template <class Done>
-void followPath(detail::SensorArm& sa, lieservo::TactileServoController<SE3d>& ctrl, const TaskOptions& opt,
-                double ref_depth, double timeout, Done done, FollowingPath& out, PathLog& log, CsvWriter& csv,
-                int path_id, double& t_global, std::vector<std::string>& failures) {
-  const double dt = 1.0 / opt.control_rate, h = dt / opt.substeps;
-  const SE3d X_wo = SE3d::identity();
-  sa.touch(X_wo);
+void followPath(mujoco::World& world, detail::EngineArm& sa, lieservo::TactileServoController<SE3d>& ctrl,
+                const TaskOptions& opt, double ref_depth, double timeout, Done done, FollowingPath& out, PathLog& log,
+                CsvWriter& csv, int path_id, double& t_global, std::vector<std::string>& failures) {
+  const double dt = 1.0 / opt.control_rate;
+  const int substeps = std::max(1, int(std::lround(dt / detail::kTimestep)));
+  const double h = dt / substeps;
+  sa.touch(world);
   const Vec3 p_start = sa.state.point_w;
   double t = 0;
   long k = 0;
@@ -50,9 +51,14 @@ void followPath(detail::SensorArm& sa, lieservo::TactileServoController<SE3d>& c
       failures.push_back("following " + out.name + ": loop status " + lieservo::describe(s));
       return;
     }
-    for (int j = 0; j < opt.substeps; ++j) {
-      sa.arm.commandVelocity(u, h);
-      sa.touch(X_wo);
+    for (int j = 0; j < substeps && s == Status::ok; ++j) {
+      s = sa.arm.commandVelocity(u, h);
+      if (s == Status::ok) s = world.step(h);
+      sa.touch(world);
+    }
+    if (s != Status::ok) {
+      failures.push_back("following " + out.name + ": world status " + lieservo::describe(s));
+      return;
     }
     t += dt;
     ++k;
@@ -62,7 +68,7 @@ void followPath(detail::SensorArm& sa, lieservo::TactileServoController<SE3d>& c
     if (!c.in_contact) out.contact_kept = false;
     out.distance += (c.point_w - p_prev).norm();
     p_prev = c.point_w;
-    const SE3d& X = sa.arm.pose();
+    const SE3d X = sa.pose();
     log.pos.push_back(X.translation());
     if (k % int(opt.control_rate) == 0) log.axes.push_back({X.translation(), Vec3(X.rotationMatrix().col(2))});
     log.depth.emplace_back(t_global + t, c.depth - ref_depth);
@@ -106,11 +112,26 @@ std::vector<Vec2> proj(const std::vector<Vec3>& v, int a, int b) {
   return o;
 }
 
+// A scene of one fixture and one sensor starting at X_ws0.
+mujoco::SceneSpec followingScene(const mujoco::FixtureSpec& fixture, const SE3d& X_ws0, const TaskOptions& opt) {
+  mujoco::SceneSpec scene;
+  scene.timestep = 1.0 / opt.control_rate / std::max(1, int(std::lround(1.0 / opt.control_rate / detail::kTimestep)));
+  scene.fixtures = {fixture};
+  scene.fixtures[0].friction = opt.contact.skin_friction;
+  mujoco::SensorSpec sensor;
+  sensor.name = "sensor";
+  sensor.tip_radius = opt.contact.tip_radius;
+  sensor.initial_pose = X_ws0;
+  scene.sensors = {sensor};
+  return scene;
+}
+
 }  // namespace
 
 FollowingResult runSurfaceFollowing(const TaskOptions& opt) {
   opt.validate();
-  using namespace detail;
+  using detail::EngineArm;
+  using detail::join;
   FollowingResult res;
   const double R = opt.contact.tip_radius;
   const double ref_depth = lieservo::paper::kSurfaceFollowing.reference_pose[2];
@@ -128,16 +149,22 @@ FollowingResult runSurfaceFollowing(const TaskOptions& opt) {
   double t_global = 0;
 
   // ---- curved ramp ----
-  RampSurface ramp(40, 200, 80);
+  mujoco::FixtureSpec ramp;
+  ramp.name = "ramp";
+  ramp.shape = "ramp";
+  ramp.size = 40;    // H
+  ramp.size2 = 200;  // L
+  ramp.width = 80;
   PathLog ramp_log;
   {
     const double y0 = -30;
-    SensorArm sa(makePose(R_down, Vec3(0, y0, ramp.height(y0) + R - ref_depth)), ramp, opt, opt.seed * 104729 + 3);
+    mujoco::World world(followingScene(ramp, makePose(R_down, Vec3(0, y0, mujoco::rampHeight(ramp, y0) + R - ref_depth)), opt));
+    EngineArm sa(world, 0, opt, opt.seed * 104729 + 3);
     lieservo::TactileServoController<SE3d> ctrl(lieservo::surfaceFollowingPreset<double>());
     ctrl.setFeedforward(lieservo::surfaceFollowingFeedforward<double>(kPi / 2, speed));
     res.ramp.name = "curved ramp";
-    const double y_end = ramp.length() + 30;
-    followPath(sa, ctrl, opt, ref_depth, 1.6 * (y_end - y0) / speed,
+    const double y_end = ramp.size2 + 30;
+    followPath(world, sa, ctrl, opt, ref_depth, 1.6 * (y_end - y0) / speed,
                [&](const ContactState& c) { return c.point_w.y() > y_end; }, res.ramp, ramp_log, csv, 0, t_global,
                res.failures);
   }
@@ -145,16 +172,21 @@ FollowingResult runSurfaceFollowing(const TaskOptions& opt) {
 
   // ---- hemispherical dome ----
   const double a = 80;
-  SphereSurface dome(a);
+  mujoco::FixtureSpec dome;
+  dome.name = "dome";
+  dome.shape = "dome";
+  dome.size = a;
   const double stop_angle = deg(50) * std::clamp(opt.duration_scale, 0.3, 1.0);
   std::vector<PathLog> dome_logs(8);
   {
     const SE3d X0 = makePose(R_down, Vec3(0, 0, a + R - ref_depth));
-    SensorArm sa(X0, dome, opt, opt.seed * 15485863 + 5);
+    mujoco::World world(followingScene(dome, X0, opt));
+    EngineArm sa(world, 0, opt, opt.seed * 15485863 + 5);
     lieservo::TactileServoController<SE3d> ctrl(lieservo::surfaceFollowingPreset<double>());
     for (int i = 0; i < 8; ++i) {
       const double th = deg(45.0 * i);
-      sa.arm.moveTo(X0);
+      world.reset();
+      sa.arm.stop();
       sa.resetEstimation();
       ctrl.reset();
       ctrl.setFeedforward(lieservo::surfaceFollowingFeedforward<double>(th, speed));
@@ -162,7 +194,7 @@ FollowingResult runSurfaceFollowing(const TaskOptions& opt) {
       char nm[40];
       std::snprintf(nm, sizeof nm, "dome %d deg", 45 * i);
       p.name = nm;
-      followPath(sa, ctrl, opt, ref_depth, 2.0 * a * stop_angle / speed + 3,
+      followPath(world, sa, ctrl, opt, ref_depth, 2.0 * a * stop_angle / speed + 3,
                  [&](const ContactState& c) { return std::acos(std::clamp(c.normal_w.z(), -1.0, 1.0)) > stop_angle; },
                  p, dome_logs[i], csv, i + 1, t_global, res.failures);
       check(p, res.failures);
@@ -201,7 +233,9 @@ FollowingResult runSurfaceFollowing(const TaskOptions& opt) {
     {
       SvgFigure fig("Surface following: curved ramp (tip-centre trajectory, sensor z-axis every 1 s)");
       SvgPanel& P = fig.panel("y-z (side view)", "y (mm)", "z (mm)");
-      for (const auto& l : ramp.outline()) P.line(proj({l.begin() + 0, l.end()}, 1, 2), "#888", 2.0);
+      std::vector<Vec2> profile;
+      for (double y = -80; y <= ramp.size2 + 80; y += 2) profile.emplace_back(y, mujoco::rampHeight(ramp, y));
+      P.line(profile, "#888", 2.0);
       P.line(proj(ramp_log.pos, 1, 2), "#d62728", 1.2, false, "sensor");
       for (const auto& [p, z] : ramp_log.axes) P.arrow(Vec2(p.y(), p.z()), Vec2(p.y() + 15 * z.y(), p.z() + 15 * z.z()), "#1f4fd8");
       SvgPanel& Q = fig.panel("x-y (top view)", "x (mm)", "y (mm)");
@@ -217,10 +251,14 @@ FollowingResult runSurfaceFollowing(const TaskOptions& opt) {
       SvgPanel& P = fig.panel("x-y (top view)", "x (mm)", "y (mm)");
       SvgPanel& Q = fig.panel("x-z (side view)", "x (mm)", "z (mm)");
       SvgPanel& S = fig.panel("y-z (side view)", "y (mm)", "z (mm)");
-      const auto outl = dome.outline();
-      P.line(proj(outl.back(), 0, 1), "#888", 1.5);
-      Q.line(proj(outl[0], 0, 2), "#888", 1.5);
-      S.line(proj(outl[2], 1, 2), "#888", 1.5);
+      std::vector<Vec2> circle, arc;
+      for (int k = 0; k <= 96; ++k) {
+        circle.emplace_back(a * std::cos(2 * kPi * k / 96), a * std::sin(2 * kPi * k / 96));
+        if (k <= 48) arc.emplace_back(a * std::cos(kPi * k / 48), a * std::sin(kPi * k / 48));
+      }
+      P.line(circle, "#888", 1.5);
+      Q.line(arc, "#888", 1.5);
+      S.line(arc, "#888", 1.5);
       const char* colours[8] = {"#d62728", "#ff7f0e", "#bcbd22", "#2ca02c", "#17becf", "#1f77b4", "#9467bd", "#e377c2"};
       for (int i = 0; i < 8; ++i) {
         P.line(proj(dome_logs[i].pos, 0, 1), colours[i], 1.5);

@@ -29,50 +29,13 @@ namespace lieservo::sim {
 
 namespace {
 
+using detail::EngineArm;
 using detail::Filter;
 using detail::Gaussian;
-using mujoco::MujocoSensorArm;
+using detail::kTimestep;
 using mujoco::World;
 
-constexpr double kTimestep = 0.0025;  // s: MuJoCo step; the arms move once per step
 constexpr double kGiveUpAfter = 1.0;  // s out of contact: the push has failed, stop the trial
-
-/// One sensorised arm in the MuJoCo world: the arm, the tactile contact state, GDN-like
-/// observations and (single arm) the Bayes filter.
-struct EngineArm {
-  MujocoSensorArm arm;
-  ContactModel contact;
-  GdnObservationModel gdn;
-  Filter filter;
-  ContactState state;
-
-  EngineArm(World& w, int sensor, const TaskOptions& opt, std::uint64_t seed)
-      : arm(w, sensor, opt.arm), contact(opt.contact), gdn(opt.calibration, {}, seed) {}
-
-  SE3d pose() {
-    SE3d X;
-    arm.readPose(X);
-    return X;
-  }
-  /// The contact from the engine's nearest object point (out of range: no contact).
-  void touch(const World& w, int sensor) {
-    const mujoco::TipGeometry g = w.tipGeometry(sensor);
-    if (!g.valid) {
-      contact.release();
-      state = ContactState{};
-      state.depth = -1e3;
-      return;
-    }
-    const SE3d X_wo = w.objectPose(g.object);
-    SurfacePoint sp;
-    sp.point = X_wo.inverse() * g.point_w;
-    sp.normal = X_wo.rotationMatrix().transpose() * g.normal_w;
-    sp.signed_distance = contact.params().tip_radius - g.depth;
-    state = contact.update(pose(), X_wo, sp);
-  }
-  Status observe(Gaussian& g) { return detail::observeContact(gdn, state, g); }
-  Status sense(SE3d& X_sf) { return detail::senseContact(gdn, state, filter, pose(), X_sf); }
-};
 
 Vec3 objectPlanar(const SE3d& X) {
   const Mat3 R = X.rotationMatrix();
@@ -155,8 +118,8 @@ PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& opt, std::u
     if (single.configurationStatus() != Status::ok) throw SceneError("pushing preset rejected");
   }
 
-  leader.touch(world, 0);
-  if (follower) follower->touch(world, 1);
+  leader.touch(world);
+  if (follower) follower->touch(world);
 
   double t = 0;
   bool terminated = false;
@@ -187,8 +150,8 @@ PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& opt, std::u
       leader.arm.commandVelocity(uL, h);
       if (follower) follower->arm.commandVelocity(uF, h);
       if (world.step(h) != Status::ok) break;
-      leader.touch(world, 0);
-      if (follower) follower->touch(world, 1);
+      leader.touch(world);
+      if (follower) follower->touch(world);
     }
     t += dt;
     ++steps;

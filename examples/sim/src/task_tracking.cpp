@@ -1,7 +1,8 @@
-// Task (a): object pose tracking (paper sec:obj_pose_tracking_exp).
+// Task (a): object pose tracking (paper sec:obj_pose_tracking_exp), on MuJoCo.
 //
-// A leader arm holds a flat plate (PlaneSurface, normal +z_o towards the follower).  The
-// follower's sensor starts normal to the plate at 6 mm depth (Table 6 reference (0,0,6,0,0,0)).
+// A leader arm carries a flat plate (a carried "plate" fixture, 160 mm square, its face
+// normal +z_o towards the follower). The follower's sensor starts normal to the plate at 6 mm
+// depth (Table 6 reference (0,0,6,0,0,0)).
 // Part 1 (sec:object_pose_tracking_single_exp): the leader moves 200 mm along −x, +y, +z of the
 // work frame and rotates 60° about x (−α), y, z through the plate centre, each leg out and back
 // with a smooth (raised-cosine) profile of `leg_time` s.  Part 2 (sec:object_pose_tracking_multi_exp):
@@ -58,19 +59,36 @@ SE3d periodicPose(double t, double T, const SE3d& X0) {
 
 TrackingResult runObjectTracking(const TaskOptions& opt) {
   opt.validate();
-  using namespace detail;
+  using detail::EngineArm;
+  using detail::kTimestep;
+  using detail::join;
   TrackingResult res;
   const double dt = 1.0 / opt.control_rate;
-  const double h = dt / opt.substeps;
+  const int substeps = std::max(1, int(std::lround(dt / kTimestep)));
+  const double h = dt / substeps;
   const double ref_depth = lieservo::paper::kObjectTracking.reference_pose[2];
   const double R = opt.contact.tip_radius;
 
-  PlaneSurface plate(60);
   const SE3d X_wl0 = SE3d::identity();  // plate centre at the origin, normal +z_w
+  mujoco::SceneSpec scene;
+  scene.timestep = h;
+  mujoco::FixtureSpec plate;
+  plate.name = "plate";
+  plate.shape = "plate";
+  plate.size = 160;
+  plate.size2 = 10;
+  plate.carried = true;
+  plate.pose = X_wl0;
+  plate.friction = opt.contact.skin_friction;
+  scene.fixtures = {plate};
   // Follower: z_s = −z_w, x_s = x_w, y_s = −y_w, tip centre R − 6 mm above the plate.
-  const SE3d X_ws0 = makePose(fromColumns(Vec3::UnitX(), -Vec3::UnitY(), -Vec3::UnitZ()),
-                              Vec3(0, 0, R - ref_depth));
-  SensorArm follower(X_ws0, plate, opt, opt.seed * 7919 + 11);
+  mujoco::SensorSpec sensor;
+  sensor.name = "follower";
+  sensor.tip_radius = R;
+  sensor.initial_pose = makePose(fromColumns(Vec3::UnitX(), -Vec3::UnitY(), -Vec3::UnitZ()), Vec3(0, 0, R - ref_depth));
+  scene.sensors = {sensor};
+  mujoco::World world(scene);
+  EngineArm follower(world, 0, opt, opt.seed * 7919 + 11);
   lieservo::TactileServoController<SE3d> ctrl(lieservo::objectTrackingPreset<double>());
   if (ctrl.configurationStatus() != Status::ok) throw SceneError("object tracking preset rejected");
 
@@ -111,7 +129,7 @@ TrackingResult runObjectTracking(const TaskOptions& opt) {
   std::vector<Vec2> depth_series, tilt_series;
 
   SE3d X_wl = X_wl0;
-  follower.touch(X_wl);
+  follower.touch(world);
   double t = 0;
   const double Ttot = T1 + T2;
   long k = 0;
@@ -127,12 +145,20 @@ TrackingResult runObjectTracking(const TaskOptions& opt) {
       res.failures.push_back(std::string("tracking: loop status ") + lieservo::describe(s));
       break;
     }
-    // Sub-steps: leader moves, follower integrates, contact sticks/slips.
-    for (int j = 0; j < opt.substeps; ++j) {
+    // MuJoCo steps: the leader moves the plate, the follower its sensor; the engine steps;
+    // the contact sticks or slips.
+    for (int j = 0; j < substeps; ++j) {
       const double tj = t + (j + 1) * h;
       X_wl = tj < T1 ? legPose(legs, leg_time, hold, tj, X_wl0, leg) : periodicPose(tj - T1, Tper, X_wl0);
-      follower.arm.commandVelocity(u, h);
-      follower.touch(X_wl);
+      s = world.setFixturePose(0, X_wl);
+      if (s == Status::ok) s = follower.arm.commandVelocity(u, h);
+      if (s == Status::ok) s = world.step(h);
+      if (s != Status::ok) break;
+      follower.touch(world);
+    }
+    if (s != Status::ok) {
+      res.failures.push_back(std::string("tracking: world status ") + lieservo::describe(s));
+      break;
     }
     t += dt;
     ++k;
@@ -146,7 +172,7 @@ TrackingResult runObjectTracking(const TaskOptions& opt) {
     seg.twist.add(toDeg(c.twist));
     seg.lag.add(pc.head<2>().norm());
     if (!c.in_contact) seg.contact_kept = false;
-    const SE3d& Xs = follower.arm.pose();
+    const SE3d Xs = follower.pose();
     if (csv.isOpen()) {
       const Vec6 el = euler6(X_wl), es = euler6(Xs);
       const Vec6 est = euler6(follower.filter.filtered().mean.inverse());

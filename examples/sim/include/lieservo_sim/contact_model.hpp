@@ -28,15 +28,21 @@
 // The anchor lives in the object frame, so a moving object (tracking leader, pushed prism)
 // drags the contact with it.  Out of contact (z ≤ 0) the anchor is released.
 //
-// The nearest point comes from an analytic Surface (surfaces.hpp) or from a physics engine
-// (the MuJoCo world's tip geometry, passed to update() as a SurfacePoint in the object frame);
-// without a Surface, a slipping anchor stays on the tangent plane of the current contact.
+// The nearest point comes from the physics engine (World::tipGeometry, passed to update() as a
+// SurfacePoint in the object frame); a slipping anchor moves on the tangent plane of the
+// current contact.
 #pragma once
 
 #include "common.hpp"
-#include "surfaces.hpp"
 
 namespace lieservo::sim {
+
+/// The surface point nearest to the tip centre, in the object's frame.
+struct SurfacePoint {
+  Vec3 point = Vec3::Zero();    ///< nearest surface point (object frame)
+  Vec3 normal = Vec3::UnitZ();  ///< outward unit normal at `point`
+  double signed_distance = 0;   ///< of the tip centre; > 0 outside the solid
+};
 
 struct ContactParams {
   double tip_radius = 20.0;           ///< R (mm): 40 mm diameter hemispherical TacTip
@@ -69,17 +75,13 @@ struct ContactState {
 
 class ContactModel {
  public:
-  ContactModel(const Surface& surface, const ContactParams& params = {});
-  /// Without a surface: the nearest point is the caller's (update with a SurfacePoint).
-  explicit ContactModel(const ContactParams& params);
+  /// Throws SceneError for bad parameters.
+  explicit ContactModel(const ContactParams& params = {});
 
-  /// Evaluates the contact for sensor pose X_ws and object pose X_wo; updates the stick/slip
-  /// anchor.  Never throws; without a Surface it reports no contact (use the SurfacePoint form).
-  ContactState update(const SE3d& X_ws, const SE3d& X_wo);
-  /// The same with the nearest object point `sp` given (object frame), e.g. by the engine.
+  /// Evaluates the contact of the sensor at X_ws with the object at X_wo, whose surface point
+  /// nearest to the tip centre is `sp` (object frame); updates the stick/slip anchor. Never
+  /// throws.
   ContactState update(const SE3d& X_ws, const SE3d& X_wo, const SurfacePoint& sp);
-  /// Evaluates without changing the anchor (e.g. for logging).
-  ContactState peek(const SE3d& X_ws, const SE3d& X_wo) const;
   /// Forget the anchor (the next contact starts unsheared).
   void release() { anchored_ = false; }
   bool anchored() const { return anchored_; }
@@ -91,11 +93,10 @@ class ContactModel {
     Vec3 p = Vec3::Zero();
     Vec3 t = Vec3::UnitX();
   };
-  ContactState evaluate(const SE3d& X_ws, const SE3d& X_wo, const Anchor& a, const SurfacePoint& sp,
+  ContactState evaluate(const SE3d& X_wo, const Anchor& a, const SurfacePoint& sp,
                         const SE3d& X_os) const;
   Anchor newAnchor(const SurfacePoint& sp, const SE3d& X_os) const;
 
-  const Surface* surface_ = nullptr;
   ContactParams params_;
   bool anchored_ = false;
   Anchor anchor_;

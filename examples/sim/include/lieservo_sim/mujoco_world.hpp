@@ -1,22 +1,22 @@
 // lieservo_sim/mujoco_world.hpp — the physical world of the simulated tasks, on MuJoCo.
 //
-// A scene (support, objects, TacTip sensors) is written as MJCF and loaded into MuJoCo, which
-// integrates the rigid-body dynamics and resolves the contacts: objects slide, turn and topple
-// on the support under gravity and the sensors' pushes. What MuJoCo does not give, the tactile
-// features (contact frame, depth, shear with stick/slip), is derived from its contact geometry:
-// World::tipGeometry gives the nearest object point, its normal and the depth from MuJoCo's
-// own collision functions.
+// A scene (support, free objects, fixtures, TacTip sensors) is written as MJCF and loaded
+// into MuJoCo, which integrates the rigid-body dynamics and resolves the contacts: objects
+// slide, turn and topple on the support under gravity and the sensors' pushes; fixtures (a
+// dome, a curved ramp, a plate carried by a leader arm) do not move under contact. What MuJoCo
+// does not give, the tactile features (contact frame, depth, shear with stick/slip), is
+// derived from its contact geometry: World::tipGeometry gives the nearest surface point, its
+// normal and the depth from MuJoCo's own collision functions.
 //
 // Units at this interface are the paper's: mm, kg, s, radians; MuJoCo works in metres inside.
 //
 // Sensors. Each sensor is a mocap body: the arm holding it is position-stiff, so the sensor
-// pose is what the commanded twist makes it (MujocoSensorArm integrates X_ws ← X_ws exp(u dt)
-// under velocity and acceleration limits). Its tip is a sphere of radius 20 mm (the 40 mm
-// TacTip's hemisphere; the back half never touches in these tasks). The compliant gel is a
-// spring between the arm's nominal tip and the touching tip: the tip is a light body on three
-// slide joints with stiffness k_gel (SensorSpec::gel_stiffness), so a contact depth d (the
-// object's surface inside the nominal tip sphere) presses the object with ≈ k_gel d, whatever
-// its mass, and a sticking contact shears the gel sideways. Tip–object contacts are stiff,
+// pose is what the commanded twist makes it (sensor_arm.hpp). Its tip is a sphere of radius
+// 20 mm (the 40 mm TacTip's hemisphere; the back half never touches in these tasks). The
+// compliant gel is a spring between the arm's nominal tip and the touching tip: the tip is a
+// light body on three slide joints with stiffness k_gel (SensorSpec::gel_stiffness), so a
+// contact depth d (the surface inside the nominal tip sphere) presses with ≈ k_gel d, whatever
+// the object's mass, and a sticking contact shears the gel sideways. Tip contacts are stiff,
 // with elliptic friction cones, a high impratio (no creeping slip) and condim 4 (torsional
 // friction, the twist γ).
 #pragma once
@@ -27,8 +27,6 @@
 #include <lieservo/status.hpp>
 
 #include "common.hpp"
-#include "robot_interface.hpp"
-#include "simulated_arm.hpp"
 
 struct mjModel_;
 struct mjData_;
@@ -60,6 +58,30 @@ struct ObjectSpec {
   double friction = 0.8;         ///< μ_c, skin–object sliding friction at the sensor (ContactParams)
 };
 
+/// A surface that is not pushed: fixed in the work frame (the following tasks' dome and ramp)
+/// or carried by a leader arm (the tracking task's plate, moved with World::setFixturePose).
+/// Shapes, in the fixture's frame {o}:
+///   "plate" a square plate, side `size`, thickness `size2`; its touched face is the plane
+///           z_o = 0 (solid below), centred on the origin;
+///   "dome"  a sphere of radius `size` centred on the origin (its upper half is the dome);
+///   "ramp"  the curved ramp: height h(y) = H for y < 0, H (1 + cos(π y / L)) / 2 on [0, L] and
+///           0 beyond (convex, then concave), with H = `size`, L = `size2`, `width` along x_o,
+///           flat for 80 mm before and after. MuJoCo collides convex shapes, so the curved part
+///           is `segments` boxes whose top faces are the profile's chords (L / segments long;
+///           the chords leave the arc by H π² L / (16 segments²) at most: 12 µm for the paper's
+///           40 mm by 200 mm ramp in 100 segments).
+struct FixtureSpec {
+  std::string name = "fixture";
+  std::string shape = "plate";  ///< "plate", "dome" or "ramp"
+  double size = 120;            ///< mm: plate side, dome radius or ramp height H
+  double size2 = 10;            ///< mm: plate thickness or ramp length L (dome: unused)
+  double width = 80;            ///< mm: the ramp's width (others: unused)
+  int segments = 100;           ///< the ramp's chords (others: unused)
+  SE3d pose = SE3d::identity(); ///< X_wo (mm)
+  bool carried = false;         ///< moved by a leader arm (a mocap body), else fixed
+  double friction = 0.8;        ///< μ_c, skin–surface sliding friction at the sensor
+};
+
 /// A TacTip sensor carried by an arm.
 struct SensorSpec {
   std::string name = "sensor";
@@ -77,20 +99,23 @@ struct SensorSpec {
 struct SceneSpec {
   SupportSpec support{};
   std::vector<ObjectSpec> objects;
+  std::vector<FixtureSpec> fixtures;
   std::vector<SensorSpec> sensors;
   double timestep = 0.002;  ///< s, MuJoCo's integration step
   double impratio = 10;     ///< elliptic-cone friction-to-normal impedance ratio
 
   /// Throws SceneError naming the parameter: non-positive size, height, mass or timestep,
-  /// negative friction, an unknown shape, a non-finite or non-orthonormal initial pose,
-  /// duplicate names.
+  /// negative friction, an unknown shape, a non-finite or non-orthonormal pose, duplicate
+  /// names.
   void validate() const;
 };
 
-/// The nearest point of an object to a sensor's tip centre, from MuJoCo's collision geometry.
+/// The nearest point of an object or fixture to a sensor's tip centre, from MuJoCo's
+/// collision geometry.
 struct TipGeometry {
-  bool valid = false;            ///< an object within the query range of the tip
-  int object = -1;               ///< index into SceneSpec::objects
+  bool valid = false;            ///< an object or fixture within the query range of the tip
+  int object = -1;               ///< index into SceneSpec::objects, or −1
+  int fixture = -1;              ///< index into SceneSpec::fixtures, or −1
   Vec3 point_w = Vec3::Zero();   ///< nearest object surface point (mm, work frame)
   Vec3 normal_w = Vec3::UnitZ(); ///< outward object normal there
   double depth = 0;              ///< mm: tip radius − distance of the tip centre (> 0 in contact)
@@ -103,6 +128,10 @@ class World {
   ~World();
   World(const World&) = delete;
   World& operator=(const World&) = delete;
+
+  /// Back to the scene as built: objects, fixtures and sensors at their initial poses, at rest,
+  /// no applied forces.
+  void reset() noexcept;
 
   /// Advances the physics by dt (a whole number of MuJoCo steps, at least one). Never throws;
   /// dt ≤ 0 or non-finite → invalid_time_step; a non-finite state → numerical_failure.
@@ -117,11 +146,17 @@ class World {
   void applyObjectForce(int i, const Vec3& force_w, const Vec3& point_w) noexcept;
   void clearForces() noexcept;
 
+  /// X_wo of fixture j (mm).
+  SE3d fixturePose(int j) const noexcept;
+  /// Moves a carried fixture (the leader's plate) to X_wo; refuses a fixed fixture
+  /// (invalid_argument) and a non-finite or non-orthonormal pose.
+  Status setFixturePose(int j, const SE3d& X_wo) noexcept;
+
   SE3d sensorPose(int s) const noexcept;
   /// Moves sensor s (a mocap body) to X_ws; refuses a non-finite or non-orthonormal pose.
   Status setSensorPose(int s, const SE3d& X_ws) noexcept;
 
-  /// Nearest object to sensor s's tip centre within `range` mm of its surface.
+  /// Nearest object or fixture to sensor s's tip centre within `range` mm of its surface.
   TipGeometry tipGeometry(int s, double range = 30) const noexcept;
   /// Total normal force (N) of sensor s's tip on the objects, from MuJoCo's contact forces.
   /// tipGeometry's depth is measured from the arm's nominal tip, so it includes the gel's
@@ -129,19 +164,27 @@ class World {
   double tipNormalForce(int s) const noexcept;
 
   int objectCount() const noexcept { return int(spec_.objects.size()); }
+  int fixtureCount() const noexcept { return int(spec_.fixtures.size()); }
   int sensorCount() const noexcept { return int(spec_.sensors.size()); }
   const SceneSpec& spec() const noexcept { return spec_; }
 
  private:
+  void setMocap(int id, const SE3d& X) noexcept;
+
   SceneSpec spec_;
   mjModel_* m_ = nullptr;
   mjData_* d_ = nullptr;
   std::vector<int> object_body_, object_geom_, object_qpos_, object_dof_;
+  std::vector<int> fixture_body_, fixture_mocap_;
+  std::vector<std::pair<int, int>> fixture_geoms_;  // [first, last) geom ids
   std::vector<int> sensor_mocap_, sensor_geom_, sensor_probe_;
 };
 
 /// The MJCF text of a scene (metres inside). Validates first.
 std::string sceneMjcf(const SceneSpec& spec);
+
+/// The ramp fixture's height h(y) (mm) at y (mm, along y_o): the profile of FixtureSpec.
+double rampHeight(const FixtureSpec& ramp, double y);
 
 /// The object's base outline in its own frame (mm, counter-clockwise; a circle as a 48-gon),
 /// for plots.
@@ -149,26 +192,5 @@ std::vector<Vec2> footprint(const ObjectSpec& object);
 /// Distance from the object's axis to its side face along +x_o (mm): where a push along −x_o
 /// meets it.
 double halfExtentX(const ObjectSpec& object);
-
-/// A sensor of a World driven as a robot: RobotInterface's commanded body twist in {s} moves
-/// the sensor's mocap body, X_ws ← X_ws exp(u dt), within speed and acceleration limits.
-/// The limits are the kinematic arm's (ArmLimits, limitTwist); its `substeps` is not used here.
-class MujocoSensorArm final : public lieservo::robot::RobotInterface {
- public:
-  MujocoSensorArm(World& world, int sensor, const ArmLimits& limits = {});
-
-  Status readPose(SE3d& X_ws) override;
-  /// Moves the sensor for dt under the limits (the world is stepped by the caller).
-  Status commandVelocity(const SE3d::Tangent& twist_s, double dt) override;
-  Status moveTo(const SE3d& X_ws) override;
-  void stop() override { applied_.setZero(); }
-  const SE3d::Tangent& appliedTwist() const { return applied_; }
-
- private:
-  World* world_;
-  int sensor_;
-  ArmLimits limits_;
-  SE3d::Tangent applied_ = SE3d::Tangent::Zero();
-};
 
 }  // namespace lieservo::sim::mujoco

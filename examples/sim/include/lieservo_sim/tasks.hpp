@@ -4,10 +4,11 @@
 //   true contact (ContactModel) → GDN-like (μ, σ) (GdnObservationModel)
 //   → fromTangentGaussian (eq:se3_inverse_transform) → DiscriminativeBayesFilter (alg:se3_bayes_filter)
 //   → controller (TactileServoController / PushingController / DualArmPushing, paper presets)
-//   → sensor body twist → the arm (X_ws ← X_ws exp(u Δt), sub-stepped) → world update.
+//   → sensor body twist → the arm (X_ws ← X_ws exp(u Δt) per MuJoCo step) → the engine steps.
 //
-// Pushing (c, d) runs on MuJoCo (mujoco_world.hpp: MujocoSensorArm, the engine's contacts);
-// tracking (a) and following (b) on the kinematic SimulatedArm and analytic surfaces.
+// All four run on MuJoCo (mujoco_world.hpp): each sensor is a MujocoSensorArm (sensor_arm.hpp),
+// its contact state comes from the engine's tip geometry. The world steps at 2.5 ms, 20 steps
+// per 20 Hz control period.
 //
 // Every task takes TaskOptions (rate, seed, output folder, duration scale) and returns a result
 // with the metrics, the success flag and a list of reasons when it failed.  With a non-empty
@@ -23,13 +24,12 @@
 #include "contact_model.hpp"
 #include "observation_model.hpp"
 #include "mujoco_world.hpp"
-#include "simulated_arm.hpp"
+#include "sensor_arm.hpp"
 
 namespace lieservo::sim {
 
 struct TaskOptions {
   double control_rate = 20.0;   ///< Hz, tactile loop (camera rate); the presets assume 20 Hz
-  int substeps = 8;             ///< arm/world sub-steps per control period
   std::uint64_t seed = 1;
   /// Scales the durations of long tasks (tracking sequence, periodic periods, dome paths) and
   /// the number of pushing trials; 1 = the paper's set-up.  Tests use < 1.

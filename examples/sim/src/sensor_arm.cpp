@@ -1,8 +1,8 @@
-// Kinematic arm (see lieservo_sim/simulated_arm.hpp).
-#include "lieservo_sim/simulated_arm.hpp"
+// A sensor of the MuJoCo world driven as a robot (see lieservo_sim/sensor_arm.hpp).
+#include "lieservo_sim/sensor_arm.hpp"
 
-#include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace lieservo::sim {
 
@@ -11,23 +11,14 @@ void ArmLimits::validate() const {
   requirePositive(max_angular_speed, "ArmLimits.max_angular_speed");
   requirePositive(max_linear_accel, "ArmLimits.max_linear_accel");
   requirePositive(max_angular_accel, "ArmLimits.max_angular_accel");
-  if (substeps < 1 || substeps > 1000) throw SceneError("ArmLimits.substeps must be in [1, 1000]");
 }
 
-SimulatedArm::SimulatedArm(const SE3d& X_ws0, const ArmLimits& limits) : pose_(X_ws0), limits_(limits) {
-  limits_.validate();
-  requireValidPose(X_ws0, "SimulatedArm initial pose");
-}
-
-Status SimulatedArm::readPose(SE3d& X_ws) {
-  X_ws = pose_;
-  return Status::ok;
-}
-
-static Vec3 capNorm(const Vec3& v, double cap) {
+namespace {
+Vec3 capNorm(const Vec3& v, double cap) {
   const double n = v.norm();
   return n > cap ? Vec3(v * (cap / n)) : v;
 }
+}  // namespace
 
 lieservo::robot::Twist limitTwist(const lieservo::robot::Twist& target, const lieservo::robot::Twist& applied,
                                   const ArmLimits& limits, double h) {
@@ -40,25 +31,32 @@ lieservo::robot::Twist limitTwist(const lieservo::robot::Twist& target, const li
   return applied + dv;
 }
 
-void SimulatedArm::substep(const Twist& target, double h) {
-  velocity_ = limitTwist(target, velocity_, limits_, h);
-  pose_ = pose_ * SE3d::exp(velocity_ * h);  // body twist: right multiplication
-  pose_.normalize();
+MujocoSensorArm::MujocoSensorArm(mujoco::World& world, int sensor, const ArmLimits& limits)
+    : world_(&world), sensor_(sensor), limits_(limits) {
+  if (sensor < 0 || sensor >= world.sensorCount()) throw SceneError("MujocoSensorArm: no sensor " + std::to_string(sensor));
+  limits_.validate();
 }
 
-Status SimulatedArm::commandVelocity(const Twist& twist_s, double dt) {
+Status MujocoSensorArm::readPose(SE3d& X_ws) {
+  X_ws = world_->sensorPose(sensor_);
+  return Status::ok;
+}
+
+Status MujocoSensorArm::commandVelocity(const SE3d::Tangent& twist_s, double dt) {
   if (!(dt > 0) || !std::isfinite(dt)) return Status::invalid_time_step;
   if (!twist_s.allFinite()) return Status::non_finite_input;
-  const double h = dt / limits_.substeps;
-  for (int i = 0; i < limits_.substeps; ++i) substep(twist_s, h);
-  return Status::ok;
+  const SE3d::Tangent applied = limitTwist(twist_s, applied_, limits_, dt);
+  SE3d X = world_->sensorPose(sensor_) * SE3d::exp(applied * dt);  // body twist: right
+  X.normalize();
+  const Status s = world_->setSensorPose(sensor_, X);
+  if (s == Status::ok) applied_ = applied;
+  return s;
 }
 
-Status SimulatedArm::moveTo(const SE3d& X_ws) {
-  if (!X_ws.allFinite()) return Status::non_finite_input;
-  pose_ = X_ws;
-  velocity_.setZero();
-  return Status::ok;
+Status MujocoSensorArm::moveTo(const SE3d& X_ws) {
+  const Status s = world_->setSensorPose(sensor_, X_ws);
+  if (s == Status::ok) applied_.setZero();
+  return s;
 }
 
 }  // namespace lieservo::sim
