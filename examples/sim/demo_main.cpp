@@ -2,7 +2,7 @@
 // beside the paper's numbers (docs/simulation.md).
 //
 //   lieservo_demo [--out DIR] [--seed N] [--trials N] [--rate HZ] [--quick] [--no-files]
-//                 [--calibration card|paper]
+//                 [--calibration card|paper] [--observations auto|real|gaussian] [--data DIR]
 //
 // Exit status: 0 when every task met its success criteria, 1 when one failed, 2 on a usage
 // or set-up error.
@@ -16,6 +16,9 @@
 
 #include "lieservo_sim/plot.hpp"
 #include "lieservo_sim/tasks.hpp"
+#ifdef LIESERVO_DEMO_WITH_REAL_OBSERVATIONS
+#include "lieservo_sim/real_observation.hpp"
+#endif
 
 #ifdef LIESERVO_DEMO_WITH_REPLAY
 // ---- REPLAY HOOK ------------------------------------------------------------------------------
@@ -35,15 +38,19 @@ double seconds(Clock::time_point a) { return std::chrono::duration<double>(Clock
 void usage() {
   std::printf(
       "usage: lieservo_demo [--out DIR] [--seed N] [--trials N] [--rate HZ] [--quick] [--no-files]\n"
-      "                     [--calibration card|paper]\n"
+      "                     [--calibration card|paper] [--observations auto|real|gaussian] [--data DIR]\n"
       "  --out DIR    results folder (default: results)\n"
       "  --seed N     base seed (default 1)\n"
       "  --trials N   pushing trials per object and surface (default 5, as the paper)\n"
       "  --rate HZ    tactile control rate (default 20)\n"
       "  --quick      shortened runs (duration scale 0.3, 2 trials)\n"
       "  --no-files   do not write plots/CSVs\n"
-      "  --calibration card|paper  GDN error calibration: the project's model card (default,\n"
-      "               falls back to the paper) or the paper's Table 1\n"
+      "  --observations auto|real|gaussian  'real': the project's GDN on the nearest labelled\n"
+      "               TacTip image of the data set (train + val); 'gaussian': the calibrated\n"
+      "               Gaussian model; 'auto' (default): real when the data set is there\n"
+      "  --data DIR   the TacTip data set for 'real' (default: " LIESERVO_DEFAULT_DATA_DIR ")\n"
+      "  --calibration card|paper  the Gaussian model's error calibration: the project's model\n"
+      "               card (default, falls back to the paper) or the paper's Table 1\n"
       "  --skin-friction MU     skin-object friction in the MuJoCo pushes (default 0.8)\n"
       "  --follower-y-gain K    dual arm: the named variant 'follower + y' (Kp on the tangential\n"
       "               y, 1/s; default 0 = the paper's Table 9 follower)\n");
@@ -81,6 +88,8 @@ int main(int argc, char** argv) {
   TaskOptions opt;
   opt.out_dir = "results";
   std::string calibration = "card";
+  std::string observations = "auto";
+  std::string data_dir = LIESERVO_DEFAULT_DATA_DIR;
   int trials = 5;
   double follower_y_gain = 0;
   for (int i = 1; i < argc; ++i) {
@@ -99,6 +108,8 @@ int main(int argc, char** argv) {
     else if (a == "--quick") opt.duration_scale = 0.3, trials = 2;
     else if (a == "--no-files") opt.out_dir.clear();
     else if (a == "--calibration") calibration = next();
+    else if (a == "--observations") observations = next();
+    else if (a == "--data") data_dir = next();
     else if (a == "--skin-friction") opt.contact.skin_friction = std::atof(next());
     else if (a == "--follower-y-gain") follower_y_gain = std::atof(next());
     else if (a == "--help" || a == "-h") {
@@ -123,6 +134,35 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "--calibration must be 'card' or 'paper'\n");
     return 2;
   }
+  if (observations != "auto" && observations != "real" && observations != "gaussian") {
+    std::fprintf(stderr, "--observations must be 'auto', 'real' or 'gaussian'\n");
+    return 2;
+  }
+  std::string observation_note;
+#ifdef LIESERVO_DEMO_WITH_REAL_OBSERVATIONS
+  if (observations == "real" || observations == "auto") {
+    RealObservationOptions ro;
+    ro.data_dir = data_dir;
+#ifdef LIESERVO_SIM_MODEL_CARD
+    ro.model_card = LIESERVO_SIM_MODEL_CARD;
+#endif
+    try {
+      opt.observations = std::make_shared<RealGdnObservations>(ro);
+    } catch (const SceneError& e) {
+      if (observations == "real") {
+        std::fprintf(stderr, "%s\n", e.what());
+        return 2;
+      }
+      observation_note = std::string("(the `real` mode could not start: ") + e.what() + ")";
+    }
+  }
+#else
+  if (observations == "real") {
+    std::fprintf(stderr, "--observations real: this build has no `real` mode (it needs OpenCV and nanoflann)\n");
+    return 2;
+  }
+  if (observations == "auto") observation_note = "(this build has no `real` mode: it needs OpenCV and nanoflann)";
+#endif
   try {
     opt.validate();
   } catch (const SceneError& e) {
@@ -134,10 +174,13 @@ int main(int argc, char** argv) {
     return 2;
   }
 
+  const std::string observation_mode =
+      opt.observations ? opt.observations->describe() : GdnObservationModel(opt.calibration).describe();
   std::printf("lieservo simulation demo: all four tasks on MuJoCo (2.5 ms steps), control %.0f Hz, seed %llu,\n"
-              "skin friction %.2f; observations: the calibrated Gaussian GDN model (%s)\n",
+              "skin friction %.2f\nobservations (%s mode): %s\n",
               opt.control_rate, static_cast<unsigned long long>(opt.seed), opt.contact.skin_friction,
-              opt.calibration.source.c_str());
+              opt.observations ? "real" : "gaussian", observation_mode.c_str());
+  if (!observation_note.empty()) std::printf("%s\n", observation_note.c_str());
   const auto t_all = Clock::now();
   std::vector<Row> rows;
   std::vector<std::string> failures;
@@ -251,6 +294,12 @@ int main(int argc, char** argv) {
   const double wall = seconds(t_all);
   std::printf("simulated %.0f s in %.1f s wall-clock: real-time factor %.1f\n", sim_seconds, wall,
               wall > 0 ? sim_seconds / wall : 0.0);
+#ifdef LIESERVO_DEMO_WITH_REAL_OBSERVATIONS
+  if (const auto* real = dynamic_cast<const RealGdnObservations*>(opt.observations.get()))
+    std::printf("observations: real mode, %zu distinct TacTip images run through the GDN\n", real->evaluatedImages());
+  else
+#endif
+    std::printf("observations: gaussian mode%s\n", observation_note.empty() ? "" : (" " + observation_note).c_str());
   std::printf("total %.1f s: %s\n", wall, ok ? "all tasks passed" : "SOME TASKS FAILED");
   return ok ? 0 : 1;
 }

@@ -19,16 +19,18 @@ namespace lieservo::sim::detail {
 using Filter = lieservo::DiscriminativeBayesFilter<SE3d>;
 using Gaussian = lieservo::ConcentratedGaussian<SE3d>;
 
-/// GDN-like observation of the true contact → concentrated Gaussian on X_sf
+/// GDN observation of the true contact → concentrated Gaussian on X_sf
 /// (eq:se3_inverse_transform).
-inline Status observeContact(GdnObservationModel& gdn, const ContactState& state, Gaussian& g) {
-  const GdnObservation obs = gdn.observe(state);
+inline Status observeContact(ObservationSource& gdn, const ContactState& state, Gaussian& g) {
+  GdnObservation obs;
+  const Status s = gdn.observe(state, obs);
+  if (s != Status::ok) return s;
   return lieservo::fromTangentGaussian<lieservo::ClosedFormJacobian>(obs.mu, obs.sigma, g);
 }
 
 /// Observation + filter step at sensor pose X_ws; X_sf receives the filtered mean. An
 /// observation the filter's gate rejected is not an error (the prediction is used).
-inline Status senseContact(GdnObservationModel& gdn, const ContactState& state, Filter& filter, const SE3d& X_ws,
+inline Status senseContact(ObservationSource& gdn, const ContactState& state, Filter& filter, const SE3d& X_ws,
                            SE3d& X_sf) {
   Gaussian g;
   Status s = observeContact(gdn, state, g);
@@ -42,17 +44,26 @@ inline Status senseContact(GdnObservationModel& gdn, const ContactState& state, 
 /// MuJoCo's step (s); the arms move once per step, 20 steps per 20 Hz control period.
 inline constexpr double kTimestep = 0.0025;
 
-/// One sensorised arm in the MuJoCo world: the arm, the tactile contact state, GDN-like
-/// observations and the Bayes filter.
+/// One sensorised arm in the MuJoCo world: the arm, the tactile contact state, its
+/// observations (TaskOptions::observations, or its own seeded Gaussian model) and the Bayes
+/// filter.
 struct EngineArm {
   MujocoSensorArm arm;
   ContactModel contact;
-  GdnObservationModel gdn;
+  GdnObservationModel gaussian;
+  std::shared_ptr<ObservationSource> shared;
+  ObservationSource* gdn;
   Filter filter;
   ContactState state;
 
   EngineArm(mujoco::World& w, int sensor, const TaskOptions& opt, std::uint64_t seed)
-      : arm(w, sensor, opt.arm), contact(opt.contact), gdn(opt.calibration, {}, seed) {}
+      : arm(w, sensor, opt.arm),
+        contact(opt.contact),
+        gaussian(opt.calibration, {}, seed),
+        shared(opt.observations),
+        gdn(shared ? shared.get() : &gaussian) {}
+  EngineArm(const EngineArm&) = delete;
+  EngineArm& operator=(const EngineArm&) = delete;
 
   SE3d pose() const { return arm.pose(); }
   /// The contact from the engine's nearest surface point (nothing in range: no contact).
@@ -71,8 +82,8 @@ struct EngineArm {
     sp.signed_distance = contact.params().tip_radius - g.depth;
     state = contact.update(pose(), X_wo, sp);
   }
-  Status observe(Gaussian& g) { return observeContact(gdn, state, g); }
-  Status sense(SE3d& X_sf) { return senseContact(gdn, state, filter, pose(), X_sf); }
+  Status observe(Gaussian& g) { return observeContact(*gdn, state, g); }
+  Status sense(SE3d& X_sf) { return senseContact(*gdn, state, filter, pose(), X_sf); }
   /// A new start: the filter forgets, the next contact starts unsheared.
   void resetEstimation() {
     filter = Filter();

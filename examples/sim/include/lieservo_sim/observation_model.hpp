@@ -25,6 +25,8 @@
 #include <random>
 #include <string>
 
+#include <lieservo/status.hpp>
+
 #include "common.hpp"
 #include "contact_model.hpp"
 
@@ -61,13 +63,29 @@ struct GdnObservation {
   Vec6 truth = Vec6::Zero();  ///< ξ_true, for diagnostics only
 };
 
-class GdnObservationModel {
+/// Where the tasks' observations come from: the calibrated Gaussian model below, or the GDN on
+/// real TacTip images (real_observation.hpp, the `real` mode). observe never throws; an
+/// observation that could not be made returns a Status other than ok.
+class ObservationSource {
+ public:
+  virtual ~ObservationSource() = default;
+  virtual Status observe(const ContactState& contact, GdnObservation& out) noexcept = 0;
+  /// For reports: which mode ran.
+  virtual std::string describe() const = 0;
+};
+
+class GdnObservationModel final : public ObservationSource {
  public:
   GdnObservationModel(const GdnCalibration& calibration = GdnCalibration::paperTable1(),
                       const HeteroscedasticShape& shape = {}, std::uint64_t seed = 1);
 
   /// Observation of the true contact (never throws).
   GdnObservation observe(const ContactState& contact);
+  Status observe(const ContactState& contact, GdnObservation& out) noexcept override {
+    out = observe(contact);
+    return Status::ok;
+  }
+  std::string describe() const override { return "calibrated Gaussian model (" + calib_.source + ")"; }
   /// σ for a contact (no noise drawn).
   Vec6 sigmaFor(const ContactState& contact) const;
   /// The base σ̄ (mm, rad) after calibration.

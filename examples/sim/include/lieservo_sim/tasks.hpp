@@ -17,6 +17,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,10 @@ struct TaskOptions {
   double duration_scale = 1.0;
   std::string out_dir;          ///< empty: no files
   GdnCalibration calibration = GdnCalibration::paperTable1();
+  /// The observations: null = the calibrated Gaussian model (`calibration`), one per arm,
+  /// seeded; else this source for every arm (the `real` mode: RealGdnObservations). The tasks
+  /// run one at a time on it (not thread-safe).
+  std::shared_ptr<ObservationSource> observations;
   ArmLimits arm{};
   ContactParams contact{};
   void validate() const;        ///< throws SceneError

@@ -1,0 +1,162 @@
+// The `real` observation mode (see lieservo_sim/real_observation.hpp).
+#include "lieservo_sim/real_observation.hpp"
+
+#include <cmath>
+#include <exception>
+#include <fstream>
+#include <optional>
+
+#include <nanoflann.hpp>
+
+#include <lieservo_adapters/onnx_pose_model.hpp>
+#include <lieservo_adapters/preprocessing.hpp>
+#include <lieservo_dataset/dataset_reader.hpp>
+
+namespace lieservo::sim {
+
+namespace {
+using LabelMatrix = Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>;
+using Tree = nanoflann::KDTreeEigenMatrixAdaptor<LabelMatrix, 6, nanoflann::metric_L2_Simple>;
+
+bool readable(const std::string& path) { return static_cast<bool>(std::ifstream(path)); }
+}  // namespace
+
+struct RealGdnObservations::Impl {
+  std::vector<Vec6> euler, xi;  // per image: label (mm, rad) and ξ_image
+  std::vector<std::string> paths;
+  Vec6 scale = Vec6::Ones();    // per-component standard deviation of the labels
+  LabelMatrix scaled;           // labels / scale, one row per image (the tree's points)
+  std::unique_ptr<Tree> tree;
+  std::optional<adapters::Preprocessor> pre;
+  std::optional<adapters::OnnxPoseModel> gdn;
+  struct Cached {
+    bool done = false;
+    Vec6 mu, sigma;
+  };
+  std::vector<Cached> cache;
+  std::size_t evaluated = 0;
+  std::string source, last_error;
+};
+
+RealGdnObservations::RealGdnObservations(const RealObservationOptions& o) : impl_(std::make_unique<Impl>()) {
+  Impl& I = *impl_;
+  if (o.data_dir.empty()) throw SceneError("real observations: data_dir is empty (the TacTip data set)");
+  if (o.splits.empty()) throw SceneError("real observations: no splits given");
+  for (const std::string& split : o.splits) {
+    if (split != "train" && split != "val")
+      throw SceneError("real observations: split '" + split + "' (only the shared train and val sets may be used)");
+    const std::string dir = o.data_dir + "/" + split;
+    if (!readable(dir + "/targets.csv"))
+      throw SceneError("real observations: data set missing: cannot read " + dir + "/targets.csv");
+    std::vector<dataset::TargetRow> rows;
+    try {
+      rows = dataset::readTargetsCsv(dir + "/targets.csv");
+    } catch (const std::exception& e) {
+      throw SceneError(std::string("real observations: ") + e.what());
+    }
+    for (const dataset::TargetRow& r : rows) {
+      const Vec6 e_deg = r.euler6Degrees();
+      const SE3d X_fs = SE3d::fromEulerXYZ6Degrees(e_deg);
+      Vec6 e = e_deg;
+      e.tail<3>() *= kPi / 180;
+      I.euler.push_back(e);
+      I.xi.push_back(X_fs.inverse().log());
+      I.paths.push_back(dir + "/processed_images/" + r.sensor_image);
+    }
+    if (!I.pre) {
+      const std::string params = dir + "/processed_image_params.json";
+      try {
+        I.pre.emplace(readable(params) ? adapters::PreprocessParams::fromJsonFile(params) : adapters::PreprocessParams{});
+      } catch (const std::exception& e) {
+        throw SceneError(std::string("real observations: ") + e.what());
+      }
+    }
+  }
+  if (I.euler.size() < 2) throw SceneError("real observations: fewer than two labelled images in " + o.data_dir);
+  // Scale: each component's standard deviation over the data, so that a millimetre of depth
+  // and a degree of tilt weigh by how much the data set varies them.
+  const std::size_t n = I.euler.size();
+  Vec6 mean = Vec6::Zero(), sq = Vec6::Zero();
+  for (const Vec6& e : I.euler) mean += e;
+  mean /= double(n);
+  for (const Vec6& e : I.euler) sq += (e - mean).cwiseAbs2();
+  for (int j = 0; j < 6; ++j) {
+    const double sd = std::sqrt(sq[j] / double(n - 1));
+    I.scale[j] = sd > 0 ? sd : 1.0;
+  }
+  I.scaled.resize(Eigen::Index(n), 6);
+  for (std::size_t i = 0; i < n; ++i) I.scaled.row(Eigen::Index(i)) = I.euler[i].cwiseQuotient(I.scale).transpose();
+  I.tree = std::make_unique<Tree>(6, std::cref(I.scaled), 10);  // builds the index
+  I.cache.resize(n);
+  if (!readable(o.model_card)) throw SceneError("real observations: cannot read the model card " + o.model_card);
+  try {
+    I.gdn.emplace(adapters::OnnxPoseModel::fromCard(o.model_card, adapters::ModelKind::gdn));
+  } catch (const std::exception& e) {
+    throw SceneError(std::string("real observations: ") + e.what());
+  }
+  I.source = "the project's GDN on the nearest of " + std::to_string(n) + " labelled TacTip images (" + o.data_dir + ")";
+}
+
+RealGdnObservations::~RealGdnObservations() = default;
+
+std::size_t RealGdnObservations::size() const noexcept { return impl_->euler.size(); }
+const Vec6& RealGdnObservations::labelEuler(std::size_t i) const { return impl_->euler.at(i); }
+const Vec6& RealGdnObservations::labelXi(std::size_t i) const { return impl_->xi.at(i); }
+const std::string& RealGdnObservations::imagePath(std::size_t i) const { return impl_->paths.at(i); }
+std::size_t RealGdnObservations::evaluatedImages() const noexcept { return impl_->evaluated; }
+const std::string& RealGdnObservations::lastError() const noexcept { return impl_->last_error; }
+std::string RealGdnObservations::describe() const { return impl_->source; }
+
+std::size_t RealGdnObservations::nearest(const Vec6& euler) const noexcept {
+  const Vec6 q = euler.cwiseQuotient(impl_->scale);
+  Eigen::Index index = 0;
+  double d2 = 0;
+  impl_->tree->query(q.data(), 1, &index, &d2);
+  return std::size_t(index);
+}
+
+Status RealGdnObservations::prediction(std::size_t i, Vec6& mu, Vec6& sigma) noexcept {
+  Impl& I = *impl_;
+  if (i >= I.cache.size()) return Status::invalid_argument;
+  Impl::Cached& c = I.cache[i];
+  if (!c.done) {
+    try {
+      const auto image = I.pre->loadProcessed(I.paths[i]);
+      if (!image) {
+        I.last_error = I.paths[i] + ": " + image.error().message;
+        return Status::invalid_argument;
+      }
+      const auto p = I.gdn->predict(*image);
+      if (!p) {
+        I.last_error = I.paths[i] + ": " + p.error().message;
+        return p.error().code == adapters::ErrorCode::non_finite_output ? Status::numerical_failure
+                                                                          : Status::invalid_argument;
+      }
+      c.mu = p->mu;
+      c.sigma = p->sigma;
+      c.done = true;
+      ++I.evaluated;
+    } catch (const std::exception& e) {  // e.g. out of memory: the per-step path never throws
+      I.last_error = I.paths[i] + ": " + e.what();
+      return Status::invalid_argument;
+    }
+  }
+  mu = c.mu;
+  sigma = c.sigma;
+  return Status::ok;
+}
+
+Status RealGdnObservations::observe(const ContactState& contact, GdnObservation& out) noexcept {
+  const Vec6 e = contact.label();
+  if (!e.allFinite()) return Status::non_finite_input;
+  const std::size_t i = nearest(e);
+  Vec6 mu, sigma;
+  const Status s = prediction(i, mu, sigma);
+  if (s != Status::ok) return s;
+  out.truth = contact.X_fs.inverse().log();  // ξ_true = log(X_sf)^∨
+  out.mu = out.truth + (mu - impl_->xi[i]);
+  out.sigma = sigma;
+  return Status::ok;
+}
+
+}  // namespace lieservo::sim

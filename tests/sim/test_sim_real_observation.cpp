@@ -1,0 +1,142 @@
+// The `real` observation mode (examples/sim real_observation.hpp) against direct computations:
+// the k-d tree's nearest image is the brute-force nearest; at an image's own contact the
+// observation is the GDN's output on that image, called directly through the OpenCV adapters;
+// elsewhere μ − ξ_true is that image's GDN error; bad set-up names what is missing.
+// Skipped with a message when the TacTip data or the exported GDN is absent.
+#include <catch2/catch.hpp>
+
+#include <fstream>
+#include <random>
+#include <string>
+
+#include <lieservo_adapters/onnx_pose_model.hpp>
+#include <lieservo_adapters/preprocessing.hpp>
+#include <lieservo_sim/real_observation.hpp>
+#include <lieservo_sim/tasks.hpp>
+
+using namespace lieservo::sim;
+using Catch::Matchers::Contains;
+
+namespace {
+const std::string kData = LIESERVO_DATA_DIR;
+const std::string kCard = std::string(LIESERVO_SOURCE_DIR) + "/examples/gdn/models/model_card.json";
+
+bool available() {
+  if (!std::ifstream(kData + "/train/targets.csv") || !std::ifstream(kData + "/val/targets.csv")) {
+    WARN("TacTip data not found under " << kData << ": skipping");
+    return false;
+  }
+  if (!std::ifstream(kCard) || !std::ifstream(std::string(LIESERVO_SOURCE_DIR) + "/examples/gdn/models/gdn.onnx")) {
+    WARN("GDN model not exported (" << kCard << "): skipping");
+    return false;
+  }
+  return true;
+}
+
+RealGdnObservations& shared() {
+  static RealGdnObservations real({kData, kCard, {"train", "val"}});
+  return real;
+}
+
+// A contact whose true pose is X_fs = Euler6(e) (mm, rad).
+ContactState contactAt(const Vec6& e) {
+  ContactState c;
+  c.in_contact = true;
+  c.X_fs = poseFromEuler6(e);
+  c.depth = e[2];
+  return c;
+}
+}  // namespace
+
+TEST_CASE("real observations: the k-d tree's nearest image is the brute-force nearest", "[sim][real]") {
+  if (!available()) return;
+  RealGdnObservations& real = shared();
+  REQUIRE(real.size() == 8000);  // 6000 train + 2000 val
+  // Brute force in the same scaled space: the scale is the labels' standard deviation.
+  const std::size_t n = real.size();
+  Vec6 mean = Vec6::Zero(), sq = Vec6::Zero();
+  for (std::size_t i = 0; i < n; ++i) mean += real.labelEuler(i);
+  mean /= double(n);
+  for (std::size_t i = 0; i < n; ++i) sq += (real.labelEuler(i) - mean).cwiseAbs2();
+  const Vec6 scale = (sq / double(n - 1)).cwiseSqrt();
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int q = 0; q < 2000; ++q) {
+    Vec6 e;  // over and beyond the data's range: shear ±7 mm, depth −1…8 mm, tilts ±35°, γ ±8°
+    e << 7 * u(rng), 7 * u(rng), 3.5 + 4.5 * u(rng), deg(35) * u(rng), deg(35) * u(rng), deg(8) * u(rng);
+    double best = 1e300;
+    for (std::size_t i = 0; i < n; ++i) best = std::min(best, (real.labelEuler(i) - e).cwiseQuotient(scale).squaredNorm());
+    const std::size_t k = real.nearest(e);
+    INFO("query " << e.transpose());
+    CHECK((real.labelEuler(k) - e).cwiseQuotient(scale).squaredNorm() == Approx(best).epsilon(1e-9));
+  }
+}
+
+TEST_CASE("real observations: at an image's contact the observation is the direct GDN call", "[sim][real]") {
+  if (!available()) return;
+  RealGdnObservations& real = shared();
+  const lieservo::adapters::Preprocessor pre(
+      lieservo::adapters::PreprocessParams::fromJsonFile(kData + "/val/processed_image_params.json"));
+  lieservo::adapters::OnnxPoseModel gdn =
+      lieservo::adapters::OnnxPoseModel::fromCard(kCard, lieservo::adapters::ModelKind::gdn);
+  for (std::size_t i = 0; i < real.size(); i += 797) {
+    INFO("image " << real.imagePath(i));
+    const auto image = pre.loadProcessed(real.imagePath(i));
+    REQUIRE(image.ok());
+    const auto direct = gdn.predict(*image);
+    REQUIRE(direct.ok());
+    // At the image's own label: μ = ξ_true + (μ_GDN − ξ_image) = μ_GDN up to rounding.
+    GdnObservation obs;
+    REQUIRE(real.observe(contactAt(real.labelEuler(i)), obs) == lieservo::Status::ok);
+    CHECK((real.labelEuler(real.nearest(real.labelEuler(i))) - real.labelEuler(i)).norm() == 0);
+    CHECK((obs.mu - direct->mu).cwiseAbs().maxCoeff() < 1e-9);
+    CHECK((obs.sigma - direct->sigma).cwiseAbs().maxCoeff() == 0);
+    // 0.02 mm and 0.02° away (still nearest to the same image): the same error carried over.
+    Vec6 e = real.labelEuler(i);
+    e[0] += 0.02, e[4] += deg(0.02);
+    REQUIRE(real.nearest(e) == real.nearest(real.labelEuler(i)));
+    REQUIRE(real.observe(contactAt(e), obs) == lieservo::Status::ok);
+    CHECK((obs.truth - poseFromEuler6(e).inverse().log()).norm() < 1e-12);
+    CHECK(((obs.mu - obs.truth) - (direct->mu - real.labelXi(i))).cwiseAbs().maxCoeff() < 1e-9);
+  }
+  CHECK(real.evaluatedImages() >= 10);
+  // Bad input: no throw, no observation.
+  Vec6 bad = Vec6::Zero();
+  bad[2] = std::nan("");
+  GdnObservation obs;
+  CHECK(real.observe(contactAt(bad), obs) == lieservo::Status::non_finite_input);
+}
+
+TEST_CASE("real observations: in the loop, tracking and following meet their criteria", "[sim][real]") {
+  if (!available()) return;
+  TaskOptions o;
+  o.seed = 3;
+  o.duration_scale = 0.25;
+  o.observations = std::shared_ptr<ObservationSource>(&shared(), [](ObservationSource*) {});  // not owned
+  auto joined = [](const std::vector<std::string>& v) {
+    std::string s;
+    for (const auto& x : v) s += x + "\n";
+    return s;
+  };
+  const TrackingResult t = runObjectTracking(o);
+  INFO(joined(t.failures));
+  CHECK(t.success);
+  CHECK(t.single_axis.contact_kept);
+  CHECK(t.periodic.contact_kept);
+  o.duration_scale = 0.3;
+  const FollowingResult f = runSurfaceFollowing(o);
+  INFO(joined(f.failures));
+  CHECK(f.success);
+  CHECK(f.ramp.reached_end);
+  CHECK(f.dome_pooled.contact_kept);
+}
+
+TEST_CASE("real observations: set-up errors name what is missing", "[sim][real]") {
+  CHECK_THROWS_WITH(RealGdnObservations({"/nonexistent/tactip", kCard, {"train", "val"}}),
+                    Contains("data set missing") && Contains("/nonexistent/tactip/train/targets.csv"));
+  CHECK_THROWS_WITH(RealGdnObservations({kData, kCard, {"test"}}), Contains("only the shared train and val"));
+  CHECK_THROWS_WITH(RealGdnObservations({"", kCard, {"train"}}), Contains("data_dir"));
+  if (!available()) return;
+  CHECK_THROWS_WITH(RealGdnObservations({kData, "/nonexistent/model_card.json", {"val"}}),
+                    Contains("/nonexistent/model_card.json"));
+}
