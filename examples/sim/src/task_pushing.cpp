@@ -270,7 +270,9 @@ void writeCase(const PushingCase& pc, const std::string& dir, const std::string&
   }
 }
 
-void plotCases(const std::vector<const PushingCase*>& cases, const std::string& path, const std::string& title) {
+}  // namespace
+
+void writePushingPlot(const std::vector<const PushingCase*>& cases, const std::string& path, const std::string& title) {
   SvgFigure fig(title);
   for (const PushingCase* pc : cases) {
     const PushTrial& t = pc->trials.front();
@@ -296,6 +298,8 @@ void plotCases(const std::vector<const PushingCase*>& cases, const std::string& 
   }
   fig.write(path, 360);
 }
+
+namespace {
 
 struct Group {
   SupportSpec surface;
@@ -325,7 +329,7 @@ PushingResult runGroups(const std::vector<Group>& groups, bool dual, bool judged
         fig.push_back(&res.cases[i]);
         writeCase(res.cases[i], opt.out_dir, g.stem + "_" + res.cases[i].setup.object.name);
       }
-      plotCases(fig, detail::join(opt.out_dir, g.stem + ".svg"),
+      writePushingPlot(fig, detail::join(opt.out_dir, g.stem + ".svg"),
                 std::string(dual ? "Dual-arm" : "Single-arm") + " pushing on " + g.surface.name +
                     " (trial 1; target: red circle; object at start dashed, at end solid" +
                     (dual ? "; leader red, follower green)" : ")"));

@@ -4,6 +4,7 @@
 // the paper's 2-D pose plots), polylines, markers, arrows (sensor axes) and a title.
 #pragma once
 
+#include <deque>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -49,6 +50,8 @@ struct SvgPanel {
 class SvgFigure {
  public:
   explicit SvgFigure(std::string title) : title_(std::move(title)) {}
+  /// A new panel. The reference stays valid for the figure's lifetime, however many panels
+  /// follow: the panels live in a std::deque, whose push_back never moves existing elements.
   SvgPanel& panel(const std::string& title, const std::string& xl, const std::string& yl) {
     panels_.push_back(SvgPanel{});
     panels_.back().title = title;
@@ -61,7 +64,7 @@ class SvgFigure {
 
  private:
   std::string title_;
-  std::vector<SvgPanel> panels_;
+  std::deque<SvgPanel> panels_;  // not a vector: panel() hands out references
 };
 
 /// Minimal CSV writer (header + rows of numbers).

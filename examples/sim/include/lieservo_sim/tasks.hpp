@@ -166,6 +166,9 @@ PushingResult runDualArmPushing(const TaskOptions& opt, int trials = 5, double f
 /// The tall prisms and everyday objects pushed by one arm on MDF: reported (how many topple),
 /// not judged.
 PushingResult runTallSingleArmPushing(const TaskOptions& opt, int trials = 5);
+/// The paper-style 2-D plot of pushing cases (one panel each: the object at the start and the
+/// end of the first trial, both sensors' paths, the target), as the runners write it.
+void writePushingPlot(const std::vector<const PushingCase*>& cases, const std::string& path, const std::string& title);
 
 /// Paper values for the tables (mean, sd in mm); NaN when not reported.
 struct PaperValue {
