@@ -2,7 +2,7 @@
 """Measure how over- or under-confident a GDN's sigma is, on training images it did not train
 on, and record per-component factors in the model card (models.gdn.sigma_calibration).
 
-    /usr/bin/python3 examples/gdn/calibrate_sigma.py --run /tmp/gdn_holdout [--weights last] \
+    /usr/bin/python3 examples/gdn/calibrate_sigma.py --run runs/gdn_holdout [--weights last] \
         [--card examples/gdn/models/model_card.json --write]
 
 The run must come from `train.py --holdout N`: its DIR/holdout.txt lists the training rows the

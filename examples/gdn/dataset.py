@@ -1,5 +1,6 @@
 """Reader for the TacTip pose-and-shear data set (dexterousrobot/tactile_data_shear,
-franka_tactip_1/surface_3d) as laid out in /work/shared/data/tactip/README.md.
+franka_tactip_1/surface_3d) as laid out in the shared data's README (../shared/data/tactip/README.md from the
+repository root).
 
     split_dir/
       processed_images/image_N.png   8-bit binarised images, 445 x 440
@@ -11,12 +12,13 @@ Pre-processing (paper, sec. "Pre- and post-processing"): resize the 8-bit image 
 128 x 128 with cv2.INTER_AREA (on the uint8 image, result rounded to uint8, exactly what
 OpenCV does on the C++ side), then scale to [0, 1] as float32 (x / 255).
 
-Preprocessed images are cached as uint8 .npy files under /tmp (never in the repository),
+Preprocessed images are cached as uint8 .npy files in the system's temporary folder
+(never in the repository),
 so later runs load in about a second.
 
 Usage:
     from dataset import load_split
-    s = load_split('/work/shared/data/tactip', 'val')
+    s = load_split(default_data_dir(), 'val')
     s.images   # float32 [N, 1, 128, 128] in [0, 1]
     s.targets  # dict column -> float64 [N]
     s.euler6   # float64 [N, 6] = (shear_x, shear_y, pose_z, pose_Rx, pose_Ry, shear_Rz), mm/deg
@@ -28,6 +30,7 @@ import hashlib
 import json
 import os
 import sys
+import tempfile
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional
 
@@ -36,7 +39,7 @@ import numpy as np
 IMAGE_SIZE = 128
 TARGET_COLUMNS = ['pose_x', 'pose_y', 'pose_z', 'pose_Rx', 'pose_Ry', 'pose_Rz',
                   'shear_x', 'shear_y', 'shear_z', 'shear_Rx', 'shear_Ry', 'shear_Rz']
-CACHE_DIR = os.environ.get('LIESERVO_CACHE', '/tmp/lieservo_gdn_cache')
+CACHE_DIR = os.environ.get('LIESERVO_CACHE', os.path.join(tempfile.gettempdir(), 'lieservo_gdn_cache'))
 
 
 class DatasetError(RuntimeError):
@@ -44,16 +47,15 @@ class DatasetError(RuntimeError):
 
 
 def default_data_dir() -> str:
-    """LIESERVO_DATA, else <repo>/../shared/data/tactip, else /work/shared/data/tactip."""
+    """LIESERVO_DATA, else <repo>/../shared/data/tactip (returned even when absent: the
+    readers then name the missing path)."""
     env = os.environ.get('LIESERVO_DATA')
     if env:
         return env
     here = os.path.dirname(os.path.abspath(__file__))
     repo = os.path.abspath(os.path.join(here, '..', '..'))
     cand = os.path.abspath(os.path.join(repo, '..', 'shared', 'data', 'tactip'))
-    if os.path.isdir(cand):
-        return cand
-    return '/work/shared/data/tactip'
+    return cand
 
 
 def read_json(path: str):

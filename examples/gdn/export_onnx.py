@@ -3,7 +3,7 @@
 OpenCV 4.6 cv2.dnn.readNetFromONNX, verify cv2.dnn against PyTorch on real validation
 images, write the reference outputs for the C++ tests and the model card.
 
-    /usr/bin/python3 examples/gdn/export_onnx.py --gdn-run /tmp/gdn_run --cnn-run /tmp/cnn_run \
+    /usr/bin/python3 examples/gdn/export_onnx.py --gdn-run runs/gdn --cnn-run runs/cnn \
         [--weights best|last]
 
 --weights picks the checkpoint train.py wrote: `best` (lowest validation loss, <kind>_best.pt) or
@@ -125,8 +125,8 @@ def write_reference(path, names, out):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument('--gdn-run', default='/tmp/gdn_run')
-    ap.add_argument('--cnn-run', default='/tmp/cnn_run')
+    ap.add_argument('--gdn-run', default='runs/gdn')
+    ap.add_argument('--cnn-run', default='runs/cnn')
     ap.add_argument('--data', default=None)
     ap.add_argument('--weights', choices=['best', 'last'], default='best',
                     help='checkpoint to export: lowest validation loss or final epoch')
@@ -280,7 +280,7 @@ def card_common():
             'GDN BatchNorm with the paper\'s TensorFlow/Keras defaults (eps 1e-3, moving-average '
             'momentum 0.99 = PyTorch momentum 0.01) and peak lr 1e-3 as in the paper; the CNN uses '
             'PyTorch defaults (eps 1e-5, momentum 0.1). An earlier GDN run at 1e-3 with '
-            'PyTorch BatchNorm blew up in its hold epoch (models/gdn_train_log_run1_*).',
+            'PyTorch BatchNorm blew up in its hold epoch.',
             'Rotations in degrees in the losses/outputs (paper: radians); the CNN loss weights '
             'are converted so that its loss is identical; for the GDN only the NLL constant '
             'changes (-3 ln(180/pi)).',

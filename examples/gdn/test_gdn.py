@@ -3,7 +3,7 @@
 
     /usr/bin/python3 examples/gdn/test_gdn.py
 
-Data-dependent checks use /work/shared/data/tactip (or $LIESERVO_DATA) and are skipped with a
+Data-dependent checks use ../shared/data/tactip beside the repository (or $LIESERVO_DATA) and are skipped with a
 message when it is absent. Needs only python3-torch, python3-onnx, python3-numpy,
 python3-opencv.
 """

@@ -3,7 +3,7 @@
 data set, keep the best-validation-loss weights, and export ONNX (see export_onnx.py).
 
     /usr/bin/python3 examples/gdn/train.py --model gdn --epochs 30 --threads 1 \
-        --out /tmp/gdn_run --channels 16,32,64,128,256
+        --out runs/gdn --channels 16,32,64,128,256
 
 Labels: xi = log(X_fs^-1)^vee = (rho [mm], phi [DEGREES]) -- see labels.py / model card.
 Schedule (LRPD): lr 1e-5 -> 1e-3 linearly over 3 epochs (per step), hold 1 epoch, then
@@ -98,7 +98,7 @@ def main(argv=None):
     ap.add_argument('--seed', type=int, default=0)
     ap.add_argument('--out', required=True, help='run directory (checkpoints, history)')
     ap.add_argument('--data', default=None, help='data dir with train/ and val/ (default: '
-                    'LIESERVO_DATA, ../shared/data/tactip from the repo root, /work/shared/data/tactip)')
+                    'LIESERVO_DATA, else ../shared/data/tactip from the repo root)')
     ap.add_argument('--deadline', default=None,
                     help='HH:MM UTC; do not start an epoch that would end after it')
     ap.add_argument('--max-batches', type=int, default=None, help='(timing) batches per epoch')

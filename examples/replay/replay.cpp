@@ -1,5 +1,7 @@
 #include "replay.hpp"
 
+#include <lieservo_dataset/dataset_reader.hpp>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -137,13 +139,6 @@ std::vector<std::array<double, 12>> runNetwork(ad::OnnxPoseModel& model, const s
   return out;
 }
 
-std::string trimCell(std::string s) {
-  while (!s.empty() && (s.back() == '\r' || s.back() == ' ')) s.pop_back();
-  std::size_t a = 0;
-  while (a < s.size() && s[a] == ' ') ++a;
-  return s.substr(a);
-}
-
 }  // namespace
 
 Vec6 labelFromEulerDegrees(const Vec6& e) {
@@ -158,49 +153,13 @@ Vec6 labelFromEulerDegrees(const Vec6& e) {
 }
 
 std::vector<Sample> readTargets(const std::string& csv_path) {
-  std::ifstream in(csv_path);
-  if (!in) throw std::runtime_error(csv_path + ": cannot open targets file");
-  std::string line;
-  if (!std::getline(in, line)) throw std::runtime_error(csv_path + ": empty targets file");
-  std::vector<std::string> header;
-  {
-    std::stringstream ss(line);
-    std::string c;
-    while (std::getline(ss, c, ',')) header.push_back(trimCell(c));
-  }
-  auto col = [&](const std::string& name) {
-    const auto it = std::find(header.begin(), header.end(), name);
-    if (it == header.end()) throw std::runtime_error(csv_path + ": no column \"" + name + "\" in the header");
-    return static_cast<std::size_t>(it - header.begin());
-  };
-  // (x, y, z, α, β, γ) = (shear_x, shear_y, pose_z, pose_Rx, pose_Ry, shear_Rz)  (data README)
-  const std::size_t ci = col("sensor_image");
-  const std::array<std::size_t, 6> ce{col("shear_x"), col("shear_y"), col("pose_z"),
-                                      col("pose_Rx"), col("pose_Ry"), col("shear_Rz")};
+  // The project's one targets.csv reader (examples/dataset); its errors name file:line:column.
   std::vector<Sample> out;
-  int lineno = 1;
-  while (std::getline(in, line)) {
-    ++lineno;
-    if (trimCell(line).empty()) continue;
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    std::string c;
-    while (std::getline(ss, c, ',')) cells.push_back(trimCell(c));
-    if (cells.size() < header.size())
-      throw std::runtime_error(csv_path + ":" + std::to_string(lineno) + ": expected " +
-                               std::to_string(header.size()) + " cells, got " + std::to_string(cells.size()));
+  for (const dataset::TargetRow& r : dataset::readTargetsCsv(csv_path)) {
     Sample s;
-    s.image = cells[ci];
-    for (std::size_t j = 0; j < 6; ++j) {
-      try {
-        std::size_t used = 0;
-        s.euler[j] = std::stod(cells[ce[j]], &used);
-        if (used != cells[ce[j]].size()) throw std::invalid_argument("trailing characters");
-      } catch (const std::exception&) {
-        throw std::runtime_error(csv_path + ":" + std::to_string(lineno) + ": bad number \"" + cells[ce[j]] +
-                                 "\" in column " + header[ce[j]]);
-      }
-    }
+    s.image = r.sensor_image;
+    const auto e = r.euler6Degrees();  // (shear_x, shear_y, pose_z, pose_Rx, pose_Ry, shear_Rz)
+    for (std::size_t j = 0; j < 6; ++j) s.euler[j] = e[static_cast<Eigen::Index>(j)];
     s.xi = labelFromEulerDegrees(s.euler);
     out.push_back(std::move(s));
   }

@@ -1,8 +1,9 @@
 // Tutorial 02 — concentrated Gaussians on SE(3) and their fusion.
 //
 // An uncertain pose is a concentrated Gaussian: a mean X̄ and a covariance Σ of a small LEFT
-// perturbation ε, X = exp(ε^) X̄ with ε ~ N(0, Σ) (paper sec:concentrated_gaussians). A GDN gives
-// its estimate in the tangent space instead: a mean μ and standard deviations σ of ξ = ln(X)^∨.
+// perturbation ε, X = exp(ε^) X̄ with ε ~ N(0, Σ) (paper eqn:se3_random_variable_2, Eq. (35)).
+// A GDN gives its estimate in the tangent space instead: a mean μ and standard deviations σ of
+// ξ = ln(X)^∨.
 // fromTangentGaussian converts one into the other (eq:se3_inverse_transform), and fuse()
 // multiplies two such beliefs into one (alg:se3_data_fusion), iterating because the product is
 // only Gaussian to first order around an operating point.

@@ -1,7 +1,35 @@
 # Configures, builds and runs tests/build/consumer against lieservo.
 # MODE=installed: install this build tree into a prefix, then find_package(lieservo).
 # MODE=subdirectory: the consumer add_subdirectory()s the source tree.
+# MODE=pkgconfig: install into a prefix, then compile main.cpp by hand with the flags
+#   `pkg-config --cflags lieservo` gives (PKG_CONFIG=the pkg-config program).
 file(REMOVE_RECURSE ${WORK_DIR})
+if(MODE STREQUAL "pkgconfig")
+  execute_process(COMMAND ${CMAKE_COMMAND} --install ${BINARY_DIR} --prefix ${WORK_DIR}/prefix RESULT_VARIABLE rc)
+  if(rc)
+    message(FATAL_ERROR "install failed: ${rc}")
+  endif()
+  set(ENV{PKG_CONFIG_PATH} "${WORK_DIR}/prefix/share/pkgconfig")
+  execute_process(COMMAND ${PKG_CONFIG} --cflags lieservo OUTPUT_VARIABLE cflags RESULT_VARIABLE rc
+                  OUTPUT_STRIP_TRAILING_WHITESPACE)
+  if(rc)
+    message(FATAL_ERROR "pkg-config --cflags lieservo failed (${rc})")
+  endif()
+  if(NOT cflags MATCHES "${WORK_DIR}/prefix/share/pkgconfig/../../include")
+    message(FATAL_ERROR "pkg-config gave '${cflags}', not the install prefix's include folder")
+  endif()
+  separate_arguments(cflags UNIX_COMMAND "${cflags}")
+  execute_process(COMMAND ${CXX} -std=c++17 -O2 -Wall -Wextra -Wpedantic -Wshadow -Werror ${cflags}
+                          ${CONSUMER_DIR}/main.cpp -o ${WORK_DIR}/consumer RESULT_VARIABLE rc)
+  if(rc)
+    message(FATAL_ERROR "compiling the consumer with pkg-config's flags failed (${rc})")
+  endif()
+  execute_process(COMMAND ${WORK_DIR}/consumer RESULT_VARIABLE rc)
+  if(rc)
+    message(FATAL_ERROR "the consumer failed (${rc})")
+  endif()
+  return()
+endif()
 set(_args -S ${CONSUMER_DIR} -B ${WORK_DIR}/build -DCMAKE_CXX_COMPILER=${CXX}
           -DEigen3_DIR=${EIGEN_DIR} -DCMAKE_BUILD_TYPE=Release)
 if(MODE STREQUAL "installed")

@@ -50,9 +50,9 @@ TEST_CASE("replay: targets.csv reading and its errors", "[perception][replay]") 
   std::ofstream(csv) << header << "image_1.png,0,0,1.5,2,-3,0,0.5,abc,0,0,0,4\n";
   CHECK_THROWS_WITH(readTargets(csv), Catch::Contains(csv + ":2") && Catch::Contains("shear_y"));
   std::ofstream(csv) << "sensor_image,pose_x\nimage_1.png,0\n";
-  CHECK_THROWS_WITH(readTargets(csv), Catch::Contains("no column \"shear_x\""));
+  CHECK_THROWS_WITH(readTargets(csv), Catch::Contains(csv + ":1") && Catch::Contains("header has 2 columns"));
   std::ofstream(csv) << header << "image_1.png,0,0\n";
-  CHECK_THROWS_WITH(readTargets(csv), Catch::Contains("expected 13 cells"));
+  CHECK_THROWS_WITH(readTargets(csv), Catch::Contains(csv + ":2") && Catch::Contains("row has 3 fields"));
   CHECK_THROWS_WITH(readTargets(dir + "/none.csv"), Catch::Contains("cannot open"));
   perception_test::removeTree(dir);
 }
