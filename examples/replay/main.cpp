@@ -49,13 +49,10 @@ int main(int argc, char** argv) {
   opt.models_dir = LIESERVO_DEFAULT_MODELS_DIR;
   std::string results_md;
   bool skip_missing = false, check = false;
+  // The report names paths relative to the repository root (no machine paths in the docs).
+  opt.display_root = LIESERVO_SOURCE_ROOT;
   std::ostringstream command;
-  {
-    std::error_code ec;
-    const std::filesystem::path cwd = std::filesystem::current_path(ec);
-    if (!ec) command << "cd " << cwd.string() << " && ";
-  }
-  command << argv[0];
+  command << lieservo::replay::displayPath(argv[0], opt.display_root, true);
   for (int i = 1; i < argc; ++i) command << ' ' << argv[i];
 
   for (int i = 1; i < argc; ++i) {

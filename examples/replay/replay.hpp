@@ -35,7 +35,13 @@ struct ReplayOptions {
   std::string cache_file;        ///< "" → no cache; else network outputs cached here (keyed by model hashes)
   int batch = 32;                ///< images per cv::dnn forward pass
   bool verbose = true;
+  std::string display_root;      ///< reports show paths relative to this folder ("" = as given)
 };
+
+/// An absolute `path` relative to `root` when `root` is set ("../shared/..." for the data
+/// beside the repository); a relative one as given. `executable`: prefixed with "./" when
+/// relative.
+std::string displayPath(const std::string& path, const std::string& root, bool executable = false);
 
 using Vec6 = std::array<double, 6>;
 

@@ -126,13 +126,18 @@ TEST_CASE("mujoco: tip geometry on every object shape (box, rectangle, cylinder,
   // 1e-9 for boxes (MuJoCo's analytic sphere–box) and 1e-4 rad for the cylinder and the mesh,
   // which go through MuJoCo's iterative convex collider (MPR, run to 1e-10 m here; the mesh's
   // normal came out 1.7e-5 rad off).
+  // Tall cylinders and hexagons touched low (the 290 mm glass bottle, the 120 mm hexagon, both
+  // at 35 mm), and the 60 mm short circle touched at 35 mm, with the same bounds: their
+  // collision segments are centred on the contact height (ObjectSpec::contact_height).
   struct Shape {
     const char* name;
     const char* shape;
-    double size, size2;
+    double size, size2, height;
   };
-  for (const Shape& sh : {Shape{"box", "square", 100, 0}, Shape{"rect", "rectangle", 58, 95},
-                          Shape{"cyl", "circle", 37, 0}, Shape{"hex", "hexagon", 50, 0}}) {
+  for (const Shape& sh : {Shape{"box", "square", 100, 0, 80}, Shape{"rect", "rectangle", 58, 95, 80},
+                          Shape{"cyl", "circle", 37, 0, 80}, Shape{"hex", "hexagon", 50, 0, 80},
+                          Shape{"bottle", "circle", 37, 0, 290}, Shape{"tallhex", "hexagon", 50, 0, 120},
+                          Shape{"short", "circle", 50, 0, 60}}) {
     SceneSpec s;
     s.support = {"test", 2.0};
     ObjectSpec o;
@@ -140,7 +145,8 @@ TEST_CASE("mujoco: tip geometry on every object shape (box, rectangle, cylinder,
     o.shape = sh.shape;
     o.size = sh.size;
     o.size2 = sh.size2;
-    o.height = 80;
+    o.height = sh.height;
+    o.contact_height = 35;
     o.mass = 0.4;
     s.objects.push_back(o);
     const double a = halfExtentX(o);
@@ -153,7 +159,7 @@ TEST_CASE("mujoco: tip geometry on every object shape (box, rectangle, cylinder,
     s.sensors.push_back(tip);
     World w(s);
     const TipGeometry geo = w.tipGeometry(0);  // before any step: the object is where it was put
-    INFO(sh.shape);
+    INFO(sh.name);
     REQUIRE(geo.valid);
     INFO("normal " << geo.normal_w.transpose());
     const bool analytic = std::string(sh.shape) == "square" || std::string(sh.shape) == "rectangle";

@@ -65,6 +65,7 @@ PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& opt, std::u
   scene.support.friction *= U(rng);
   ObjectSpec obj = setup.object;
   obj.friction = opt.contact.skin_friction;
+  obj.contact_height = setup.sensor_height;
   const double jitter_y = 2.0 * std::clamp(N01(rng), -2.0, 2.0);
   obj.yaw = obj.shape == "circle" ? 0.0 : deg(2.0) * std::clamp(N01(rng), -2.0, 2.0);
   const double a = mujoco::halfExtentX(obj);

@@ -56,6 +56,11 @@ struct ObjectSpec {
   double x = 0, y = 0;           ///< mm, centre of the base on the support
   double yaw = 0;                ///< rad about the support normal
   double friction = 0.8;         ///< μ_c, skin–object sliding friction at the sensor (ContactParams)
+  /// mm: the height at which the sensors touch it (0: unknown). A circle or hexagon taller
+  /// than twice this is split for collision into a segment centred there and one above:
+  /// MuJoCo's convex collider misjudges a sphere low on a tall cylinder (docs/simulation.md,
+  /// "Tall cylinders and hexagons").
+  double contact_height = 0;
 };
 
 /// A surface that is not pushed: fixed in the work frame (the following tasks' dome and ramp)
@@ -174,7 +179,8 @@ class World {
   SceneSpec spec_;
   mjModel_* m_ = nullptr;
   mjData_* d_ = nullptr;
-  std::vector<int> object_body_, object_geom_, object_qpos_, object_dof_;
+  std::vector<int> object_body_, object_qpos_, object_dof_;
+  std::vector<std::pair<int, int>> object_geoms_;  // [first, last) geom ids
   std::vector<int> fixture_body_, fixture_mocap_;
   std::vector<std::pair<int, int>> fixture_geoms_;  // [first, last) geom ids
   std::vector<int> sensor_mocap_, sensor_geom_, sensor_probe_;
