@@ -6,8 +6,11 @@
 //
 // Exit status: 0 when every task met its success criteria, 1 when one failed, 2 on a usage
 // or set-up error.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -81,6 +84,59 @@ struct Row {
   std::string task, item, sim, paper;
   bool pass;
 };
+
+std::string html(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '&') out += "&amp;";
+    else if (c == '<') out += "&lt;";
+    else if (c == '>') out += "&gt;";
+    else out += c;
+  }
+  return out;
+}
+
+// One page of results: the summary table beside the paper's numbers, every figure in the
+// results folder (SVG and PNG, its subfolders included) and links to the CSV logs.
+bool writeIndex(const std::string& dir, const std::string& heading, const std::vector<Row>& rows,
+                const std::vector<std::string>& failures) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> figures, logs;
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator();
+       it.increment(ec)) {
+    if (!it->is_regular_file(ec)) continue;
+    const std::string ext = it->path().extension().string();
+    const std::string rel = fs::relative(it->path(), dir, ec).generic_string();
+    if (ext == ".svg" || ext == ".png") figures.push_back(rel);
+    else if (ext == ".csv") logs.push_back(rel);
+  }
+  std::sort(figures.begin(), figures.end());
+  std::sort(logs.begin(), logs.end());
+  std::ofstream f(dir + "/index.html");
+  f << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>lieservo results</title>\n"
+       "<style>body{font-family:sans-serif;margin:2em}table{border-collapse:collapse}"
+       "td,th{border:1px solid #ccc;padding:2px 6px}.no{color:#b00;font-weight:bold}"
+       "img{max-width:100%;border:1px solid #eee;margin:8px 0}</style></head><body>\n"
+    << "<h1>lieservo: the paper's four tasks in simulation</h1>\n<pre>" << html(heading) << "</pre>\n"
+    << "<h2>Summary beside the paper</h2>\n<table><tr><th>task</th><th>quantity</th><th>simulation</th>"
+       "<th>paper</th><th>pass</th></tr>\n";
+  for (const Row& r : rows)
+    f << "<tr><td>" << html(r.task) << "</td><td>" << html(r.item) << "</td><td>" << html(r.sim) << "</td><td>"
+      << html(r.paper) << "</td><td" << (r.pass ? ">yes" : " class=\"no\">NO") << "</td></tr>\n";
+  f << "</table>\n";
+  if (!failures.empty()) {
+    f << "<h2>Failures</h2>\n<ul>\n";
+    for (const auto& x : failures) f << "<li>" << html(x) << "</li>\n";
+    f << "</ul>\n";
+  }
+  f << "<h2>Figures</h2>\n";
+  for (const auto& x : figures) f << "<h3>" << html(x) << "</h3>\n<img src=\"" << html(x) << "\" alt=\"" << html(x) << "\">\n";
+  f << "<h2>Logs</h2>\n<ul>\n";
+  for (const auto& x : logs) f << "<li><a href=\"" << html(x) << "\">" << html(x) << "</a></li>\n";
+  f << "</ul>\n</body></html>\n";
+  return bool(f);
+}
 
 }  // namespace
 
@@ -289,7 +345,16 @@ int main(int argc, char** argv) {
   std::printf("pushing: final target error = perpendicular distance from the target to the sensor-object contact\n"
               "normal at termination, mean ± sd over %d seeded trials (paper: 5 real trials, Tables 3-5).\n",
               trials);
-  if (!opt.out_dir.empty()) std::printf("plots (SVG) and logs (CSV) in %s/\n", opt.out_dir.c_str());
+  if (!opt.out_dir.empty()) {
+    char heading[400];
+    std::snprintf(heading, sizeof heading, "control %.0f Hz, seed %llu, %d pushing trials per case\nobservations: %s",
+                  opt.control_rate, static_cast<unsigned long long>(opt.seed), trials, observation_mode.c_str());
+    if (writeIndex(opt.out_dir, heading, rows, failures))
+      std::printf("plots (SVG) and logs (CSV) in %s/, all on one page: %s/index.html\n", opt.out_dir.c_str(),
+                  opt.out_dir.c_str());
+    else
+      std::printf("plots (SVG) and logs (CSV) in %s/ (index.html could not be written)\n", opt.out_dir.c_str());
+  }
   for (const auto& f : failures) std::printf("FAILED: %s\n", f.c_str());
   const double wall = seconds(t_all);
   std::printf("simulated %.0f s in %.1f s wall-clock: real-time factor %.1f\n", sim_seconds, wall,

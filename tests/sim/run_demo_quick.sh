@@ -1,0 +1,23 @@
+#!/bin/sh
+# demo.quick: runs the shortened main job (lieservo_demo --quick --trials 1) into OUT_DIR and
+# checks what a user opens: exit status 0 or 1 (1 = a task missed its criteria, which
+# docs/simulation.md reports), and OUT_DIR/index.html embedding every figure written (SVG,
+# PNG; none empty) and linking every CSV log. A set-up error (2) or a sanitizer's abort fails.
+# Usage: run_demo_quick.sh LIESERVO_DEMO OUT_DIR
+set -u
+demo=$1
+out=$2
+rm -rf "$out"
+"$demo" --quick --trials 1 --out "$out"
+rc=$?
+if [ "$rc" -gt 1 ]; then echo "demo.quick: lieservo_demo exited with $rc"; exit 1; fi
+page="$out/index.html"
+[ -s "$page" ] || { echo "demo.quick: no $page"; exit 1; }
+figures=0
+for f in $(cd "$out" && find . -name '*.svg' -o -name '*.png' -o -name '*.csv' | sed 's|^\./||'); do
+  [ -s "$out/$f" ] || { echo "demo.quick: $f is empty"; exit 1; }
+  grep -qF "\"$f\"" "$page" || { echo "demo.quick: index.html does not show $f"; exit 1; }
+  case "$f" in *.csv) ;; *) figures=$((figures + 1)) ;; esac
+done
+[ "$figures" -ge 10 ] || { echo "demo.quick: only $figures figures"; exit 1; }
+echo "demo.quick: exit status $rc, index.html shows $figures figures and every log"
