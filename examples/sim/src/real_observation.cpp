@@ -3,7 +3,6 @@
 
 #include <cmath>
 #include <exception>
-#include <fstream>
 #include <optional>
 
 #include <nanoflann.hpp>
@@ -17,8 +16,7 @@ namespace lieservo::sim {
 namespace {
 using LabelMatrix = Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>;
 using Tree = nanoflann::KDTreeEigenMatrixAdaptor<LabelMatrix, 6, nanoflann::metric_L2_Simple>;
-
-bool readable(const std::string& path) { return static_cast<bool>(std::ifstream(path)); }
+using dataset::fileExists;
 }  // namespace
 
 struct RealGdnObservations::Impl {
@@ -46,7 +44,7 @@ RealGdnObservations::RealGdnObservations(const RealObservationOptions& o) : impl
     if (split != "train" && split != "val")
       throw SceneError("real observations: split '" + split + "' (only the shared train and val sets may be used)");
     const std::string dir = o.data_dir + "/" + split;
-    if (!readable(dir + "/targets.csv"))
+    if (!fileExists(dir + "/targets.csv"))
       throw SceneError("real observations: data set missing: cannot read " + dir + "/targets.csv");
     std::vector<dataset::TargetRow> rows;
     try {
@@ -66,7 +64,7 @@ RealGdnObservations::RealGdnObservations(const RealObservationOptions& o) : impl
     if (!I.pre) {
       const std::string params = dir + "/processed_image_params.json";
       try {
-        I.pre.emplace(readable(params) ? adapters::PreprocessParams::fromJsonFile(params) : adapters::PreprocessParams{});
+        I.pre.emplace(fileExists(params) ? adapters::PreprocessParams::fromJsonFile(params) : adapters::PreprocessParams{});
       } catch (const std::exception& e) {
         throw SceneError(std::string("real observations: ") + e.what());
       }
@@ -88,7 +86,7 @@ RealGdnObservations::RealGdnObservations(const RealObservationOptions& o) : impl
   for (std::size_t i = 0; i < n; ++i) I.scaled.row(Eigen::Index(i)) = I.euler[i].cwiseQuotient(I.scale).transpose();
   I.tree = std::make_unique<Tree>(6, std::cref(I.scaled), 10);  // builds the index
   I.cache.resize(n);
-  if (!readable(o.model_card)) throw SceneError("real observations: cannot read the model card " + o.model_card);
+  if (!fileExists(o.model_card)) throw SceneError("real observations: cannot read the model card " + o.model_card);
   try {
     I.gdn.emplace(adapters::OnnxPoseModel::fromCard(o.model_card, adapters::ModelKind::gdn));
   } catch (const std::exception& e) {
