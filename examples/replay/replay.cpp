@@ -144,9 +144,7 @@ std::vector<std::array<double, 12>> runNetwork(ad::OnnxPoseModel& model, const s
 Vec6 labelFromEulerDegrees(const Vec6& e) {
   SE3d::Vector6 v;
   for (int j = 0; j < 6; ++j) v(j) = e[static_cast<std::size_t>(j)];
-  // X_fs from extrinsic-xyz Euler (mm, deg); label ξ = log(X_sf)^∨ with X_sf = X_fs⁻¹
-  // (paper sec:pre_post_processing, label steps 1-3).
-  const SE3d::Tangent xi = SE3d::fromEulerXYZ6Degrees(v).inverse().log();
+  const SE3d::Tangent xi = dataset::labelFromEuler6Degrees(v);  // the data set's one definition
   Vec6 out{};
   for (int j = 0; j < 6; ++j) out[static_cast<std::size_t>(j)] = xi(j);
   return out;

@@ -53,12 +53,10 @@ RealGdnObservations::RealGdnObservations(const RealObservationOptions& o) : impl
       throw SceneError(std::string("real observations: ") + e.what());
     }
     for (const dataset::TargetRow& r : rows) {
-      const Vec6 e_deg = r.euler6Degrees();
-      const SE3d X_fs = SE3d::fromEulerXYZ6Degrees(e_deg);
-      Vec6 e = e_deg;
+      Vec6 e = r.euler6Degrees();
       e.tail<3>() *= kPi / 180;
       I.euler.push_back(e);
-      I.xi.push_back(X_fs.inverse().log());
+      I.xi.push_back(r.label());
       I.paths.push_back(dir + "/processed_images/" + r.sensor_image);
     }
     if (!I.pre) {

@@ -1,6 +1,7 @@
 // Internal helpers shared by the task implementations (not installed).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -43,6 +44,10 @@ inline Status senseContact(ObservationSource& gdn, const ContactState& state, Fi
 
 /// MuJoCo's step (s); the arms move once per step, 20 steps per 20 Hz control period.
 inline constexpr double kTimestep = 0.0025;
+
+/// MuJoCo steps per control period dt: the whole number nearest dt / kTimestep (at least 1),
+/// so that a period is a whole number of steps of length dt / stepsPerPeriod(dt).
+inline int stepsPerPeriod(double dt) { return std::max(1, int(std::lround(dt / kTimestep))); }
 
 /// One sensorised arm in the MuJoCo world: the arm, the tactile contact state, its
 /// observations (TaskOptions::observations, or its own seeded Gaussian model) and the Bayes

@@ -32,7 +32,6 @@ namespace {
 using detail::EngineArm;
 using detail::Filter;
 using detail::Gaussian;
-using detail::kTimestep;
 using mujoco::World;
 
 constexpr double kGiveUpAfter = 1.0;  // s out of contact: the push has failed, stop the trial
@@ -51,7 +50,7 @@ PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& opt, std::u
   opt.validate();
   PushTrial tr;
   const double dt = 1.0 / opt.control_rate;
-  const int substeps = std::max(1, int(std::lround(dt / kTimestep)));
+  const int substeps = detail::stepsPerPeriod(dt);
   const double h = dt / substeps;
   const double R = opt.contact.tip_radius;
   std::mt19937_64 rng(trial_seed * 6364136223846793005ULL + 1442695040888963407ULL);

@@ -60,11 +60,10 @@ SE3d periodicPose(double t, double T, const SE3d& X0) {
 TrackingResult runObjectTracking(const TaskOptions& opt) {
   opt.validate();
   using detail::EngineArm;
-  using detail::kTimestep;
   using detail::join;
   TrackingResult res;
   const double dt = 1.0 / opt.control_rate;
-  const int substeps = std::max(1, int(std::lround(dt / kTimestep)));
+  const int substeps = detail::stepsPerPeriod(dt);
   const double h = dt / substeps;
   const double ref_depth = lieservo::paper::kObjectTracking.reference_pose[2];
   const double R = opt.contact.tip_radius;

@@ -16,6 +16,7 @@
 #include "lieservo_dataset/json.hpp"
 
 #include <Eigen/Core>
+#include <lieservo/groups/se3.hpp>
 
 #include <array>
 #include <charconv>
@@ -34,6 +35,13 @@ inline constexpr std::array<const char*, 13> kTargetColumns = {
     "sensor_image", "pose_x",  "pose_y",  "pose_z",   "pose_Rx",  "pose_Ry", "pose_Rz",
     "shear_x",      "shear_y", "shear_z", "shear_Rx", "shear_Ry", "shear_Rz"};
 
+/// The label ξ = log(X_fs⁻¹)^∨ (mm, rad) of a contact pose X_fs given as extrinsic-xyz Euler
+/// (x, y, z, α, β, γ) in mm and degrees: what the GDN learns to predict (paper
+/// sec:pre_post_processing, label steps 1-3).
+inline Eigen::Matrix<double, 6, 1> labelFromEuler6Degrees(const Eigen::Matrix<double, 6, 1>& e) {
+  return SE3<double>::fromEulerXYZ6Degrees(e).inverse().log();
+}
+
 struct TargetRow {
   std::string sensor_image;     ///< e.g. "image_7.png" (relative to processed_images/)
   std::array<double, 6> pose{};   ///< pose_x, pose_y, pose_z [mm], pose_Rx, pose_Ry, pose_Rz [deg]
@@ -47,6 +55,8 @@ struct TargetRow {
     e << shear[0], shear[1], pose[2], pose[3], pose[4], shear[5];
     return e;
   }
+  /// This row's label ξ = log(X_fs⁻¹)^∨ (mm, rad); see labelFromEuler6Degrees.
+  Eigen::Matrix<double, 6, 1> label() const { return labelFromEuler6Degrees(euler6Degrees()); }
   Eigen::Matrix<double, 6, 1> poseEuler6Degrees() const {
     return Eigen::Map<const Eigen::Matrix<double, 6, 1>>(pose.data());
   }

@@ -33,6 +33,8 @@ class DatasetError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+struct JsonMember;
+
 struct JsonValue {
   enum class Type { null, boolean, number, string, array, object };
   Type type = Type::null;
@@ -40,7 +42,7 @@ struct JsonValue {
   double number = 0;
   std::string string;
   std::vector<JsonValue> array;
-  std::vector<std::pair<std::string, JsonValue>> object;  // file order
+  std::vector<JsonMember> object;                         // file order
   int line = 0, column = 0;                               // where the value starts (1-based)
 
   bool isNull() const { return type == Type::null; }
@@ -51,14 +53,23 @@ struct JsonValue {
   bool isObject() const { return type == Type::object; }
 
   /// Member of an object, or nullptr (last one wins on duplicates, like Python).
-  const JsonValue* find(std::string_view key) const {
-    const JsonValue* hit = nullptr;
-    for (const auto& kv : object) {
-      if (kv.first == key) hit = &kv.second;
-    }
-    return hit;
-  }
+  const JsonValue* find(std::string_view key) const;
 };
+
+/// One member of a JSON object. (A named struct, not std::pair<std::string, JsonValue>:
+/// the standard containers accept an incomplete element type, std::pair does not.)
+struct JsonMember {
+  std::string key;
+  JsonValue value;
+};
+
+inline const JsonValue* JsonValue::find(std::string_view key) const {
+  const JsonValue* hit = nullptr;
+  for (const auto& m : object) {
+    if (m.key == key) hit = &m.value;
+  }
+  return hit;
+}
 
 struct JsonParseOptions {
   bool allow_non_finite = true;        ///< accept Infinity, -Infinity, NaN
@@ -291,7 +302,7 @@ class JsonParser {
       if (pos_ >= s_.size() || s_[pos_] != ':') error("expected ':' after key \"" + key + "\"");
       advance(1);
       JsonValue member = value(depth + 1);
-      v.object.emplace_back(std::move(key), std::move(member));
+      v.object.push_back(JsonMember{std::move(key), std::move(member)});
       if (!separatorOrClose('}', "an object")) return;
     }
   }

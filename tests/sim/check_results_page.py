@@ -1,0 +1,177 @@
+#!/usr/bin/env python3
+"""demo.page: opens the demo's results page in headless Chromium and fails if a figure is
+missing or blank.
+
+Usage: check_results_page.py RESULTS_DIR [--self-test]
+
+For RESULTS_DIR/index.html (written by lieservo_demo) it
+  1. loads a copy of the page with a probe script appended in Chromium (--dump-dom), which
+     reports for every <img> whether the browser decoded it (naturalWidth > 0) and where it
+     was laid out;
+  2. takes a full-page screenshot of the same copy at the same width;
+  3. checks each figure's box in the screenshot: at least MIN_SIZE pixels each way and at
+     least MIN_INK of its pixels drawn (darker than the white background).
+With --self-test it first checks itself: in a scratch copy of the results it blanks one
+figure (a white SVG of the same size) and points another <img> at a file that is not there,
+and requires both to be reported.
+
+Exit status: 0 pass, 1 fail, 77 (CTest's skip) when Chromium or OpenCV is not installed.
+"""
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+MIN_SIZE = 100     # px: a figure drawn smaller than this is not readable
+MIN_INK = 0.005    # fraction of the figure's pixels darker than the background
+BACKGROUND = 240   # a pixel whose darkest channel is below this counts as ink
+WIDTH = 1280       # browser window width (px)
+
+PROBE = """<script>
+window.addEventListener('load', function () {
+  var figures = [];
+  document.querySelectorAll('img').forEach(function (im) {
+    // the image's content box: its border and padding are the page's, not the figure's
+    var r = im.getBoundingClientRect(), s = getComputedStyle(im);
+    var px = function (v) { return parseFloat(v) || 0; };
+    var l = px(s.borderLeftWidth) + px(s.paddingLeft), t = px(s.borderTopWidth) + px(s.paddingTop);
+    var w = r.width - l - px(s.borderRightWidth) - px(s.paddingRight);
+    var h = r.height - t - px(s.borderBottomWidth) - px(s.paddingBottom);
+    figures.push({src: im.getAttribute('src'), loaded: im.complete && im.naturalWidth > 0,
+                  x: r.left + l + window.scrollX, y: r.top + t + window.scrollY, w: w, h: h});
+  });
+  var pre = document.createElement('pre');
+  pre.id = 'figure-probe';
+  pre.textContent = JSON.stringify({height: document.documentElement.scrollHeight,
+                                    figures: figures});
+  document.body.appendChild(pre);
+});
+</script>
+"""
+
+
+def find_chromium():
+    for name in ("chromium", "chromium-browser", "google-chrome"):
+        path = shutil.which(name)
+        if path:
+            return path
+    return None
+
+
+def chromium(browser, args):
+    cmd = [browser, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
+           "--allow-file-access-from-files", "--virtual-time-budget=10000"] + args
+    return subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
+                          timeout=120)
+
+
+def check_page(browser, cv2, results):
+    """Returns the list of problems found on results/index.html (empty = pass)."""
+    page = os.path.join(results, "index.html")
+    if not os.path.isfile(page):
+        return [f"{page} does not exist"]
+    html = open(page, encoding="utf-8").read()
+    if "</body>" not in html:
+        return [f"{page} has no </body>"]
+    probe_page = os.path.join(results, ".page_probe.html")
+    shot = os.path.join(results, ".page_screenshot.png")
+    with open(probe_page, "w", encoding="utf-8") as f:
+        f.write(html.replace("</body>", PROBE + "</body>"))
+    url = "file://" + os.path.abspath(probe_page)
+    try:
+        dom = chromium(browser, [f"--window-size={WIDTH},1000", "--dump-dom", url]).stdout
+        m = re.search(r'<pre id="figure-probe">(.*?)</pre>', dom, re.S)
+        if not m:
+            return ["Chromium did not run the probe script (no layout report)"]
+        layout = json.loads(m.group(1).replace("&quot;", '"').replace("&amp;", "&"))
+        height = int(layout["height"]) + 100
+        chromium(browser, [f"--window-size={WIDTH},{height}", f"--screenshot={shot}", url])
+        image = cv2.imread(shot)
+    finally:
+        os.remove(probe_page)
+    if image is None:
+        return ["Chromium wrote no screenshot"]
+    os.remove(shot)
+    problems = []
+    if not layout["figures"]:
+        problems.append("the page shows no figures")
+    for fig in layout["figures"]:
+        src = fig["src"]
+        if not fig["loaded"]:
+            problems.append(f"{src}: missing (the browser could not load it)")
+            continue
+        # whole pixels inside the content box (its edge pixels are blended with the border)
+        x, y = int(fig["x"]) + 1, int(fig["y"]) + 1
+        w, h = int(fig["w"]) - 2, int(fig["h"]) - 2
+        if w < MIN_SIZE or h < MIN_SIZE:
+            problems.append(f"{src}: drawn {w}x{h} px, under {MIN_SIZE} px")
+            continue
+        box = image[y:y + h, x:x + w]
+        if box.shape[0] < h or box.shape[1] < w:
+            problems.append(f"{src}: outside the screenshot ({x},{y} {w}x{h})")
+            continue
+        ink = float((box.min(axis=2) < BACKGROUND).mean())
+        if ink < MIN_INK:
+            problems.append(f"{src}: blank ({100 * ink:.2f} % of its pixels drawn, "
+                            f"under {100 * MIN_INK:.1f} %)")
+        else:
+            print(f"  {src}: {w}x{h} px, {100 * ink:.1f} % drawn")
+    return problems
+
+
+def self_test(browser, cv2, results):
+    """The check must catch a blank figure and a missing one."""
+    with tempfile.TemporaryDirectory() as scratch:
+        copy = os.path.join(scratch, "results")
+        shutil.copytree(results, copy)
+        html = open(os.path.join(copy, "index.html"), encoding="utf-8").read()
+        svgs = re.findall(r'<img src="([^"]+\.svg)"', html)
+        if len(svgs) < 2:
+            return ["self-test: the page has fewer than two SVG figures"]
+        blank, missing = svgs[0], svgs[1]
+        with open(os.path.join(copy, blank), "w", encoding="utf-8") as f:
+            f.write('<svg xmlns="http://www.w3.org/2000/svg" width="1200" height="400">'
+                    '<rect width="100%" height="100%" fill="white"/></svg>')
+        html = html.replace(f'src="{missing}"', 'src="no_such_figure.svg"')
+        open(os.path.join(copy, "index.html"), "w", encoding="utf-8").write(html)
+        found = check_page(browser, cv2, copy)
+        wanted = {f"{blank}: blank": False, "no_such_figure.svg: missing": False}
+        for p in found:
+            for w in wanted:
+                if p.startswith(w):
+                    wanted[w] = True
+        return [f"self-test: the check did not report '{w}'" for w, ok in wanted.items() if not ok]
+
+
+def main():
+    if len(sys.argv) < 2:
+        print(__doc__)
+        return 2
+    results = sys.argv[1]
+    browser = find_chromium()
+    if browser is None:
+        print("demo.page skipped: Chromium is not installed (bash .ci/install-deps test)")
+        return 77
+    try:
+        import cv2
+    except ImportError:
+        print("demo.page skipped: OpenCV for Python is not installed (python3-opencv)")
+        return 77
+    problems = []
+    if "--self-test" in sys.argv[2:]:
+        problems += self_test(browser, cv2, results)
+        if not problems:
+            print("self-test: a blank and a missing figure are both reported")
+    problems += check_page(browser, cv2, results)
+    for p in problems:
+        print("demo.page FAIL:", p)
+    if not problems:
+        print(f"demo.page: every figure on {results}/index.html is there and drawn")
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
