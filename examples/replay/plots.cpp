@@ -45,6 +45,10 @@ double quantile(std::vector<double> v, double q) {
 
 }  // namespace
 
+PanelBox scatterPanelBox(int c) {
+  return PanelBox{(c % 3) * kCellW + kMarginL, kHeader + (c / 3) * kCellH + kMarginT, kPanel, kPanel};
+}
+
 void writeScatterPlot(const std::string& path, const std::string& title,
                       const std::vector<std::array<double, 6>>& actual,
                       const std::vector<std::array<double, 6>>& predicted,
@@ -55,7 +59,8 @@ void writeScatterPlot(const std::string& path, const std::string& title,
   cv::putText(img, title, cv::Point(10, 27), cv::FONT_HERSHEY_SIMPLEX, 0.65, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
 
   for (int c = 0; c < 6; ++c) {
-    const int ox = (c % 3) * kCellW + kMarginL, oy = kHeader + (c / 3) * kCellH + kMarginT;
+    const PanelBox box = scatterPanelBox(c);
+    const int ox = box.x, oy = box.y;
     const auto cs = static_cast<std::size_t>(c);
     // Axis range: the actual values' range (both axes), 5 % padding; predictions beyond are clipped.
     double lo = 1e300, hi = -1e300;

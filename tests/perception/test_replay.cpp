@@ -2,6 +2,8 @@
 // experiment on a synthetic sequence, and an end-to-end run on the tiny models.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -9,12 +11,70 @@
 #include <random>
 #include <string>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "lieservo/estimation/concentrated_gaussian.hpp"
 #include "perception_test_util.hpp"
+#include "plots.hpp"
 #include "replay.hpp"
 
 using namespace lieservo;
 using namespace lieservo::replay;
+
+namespace {
+
+/// Marker pixels in each of a scatter plot's six panels: saturated colours (max − min channel
+/// > 60) strictly inside the panel's frame. −1 when the image cannot be read.
+std::array<int, 6> markerPixels(const std::string& png) {
+  std::array<int, 6> n{};
+  const cv::Mat img = cv::imread(png, cv::IMREAD_COLOR);
+  if (img.empty()) return {-1, -1, -1, -1, -1, -1};
+  for (int c = 0; c < 6; ++c) {
+    const PanelBox b = scatterPanelBox(c);
+    for (int y = b.y + 1; y < b.y + b.height; ++y)
+      for (int x = b.x + 1; x < b.x + b.width; ++x) {
+        const cv::Vec3b p = img.at<cv::Vec3b>(y, x);
+        const int hi = std::max({p[0], p[1], p[2]}), lo = std::min({p[0], p[1], p[2]});
+        if (hi - lo > 60) ++n[static_cast<std::size_t>(c)];
+      }
+  }
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("replay: every scatter-plot panel shows its data, an empty plot shows none",
+          "[perception][replay][plots]") {
+  const std::string dir = perception_test::makeTempDir("replay_plots");
+  // 50 points per component inside the axes (actual = predicted ± a little).
+  std::vector<std::array<double, 6>> actual, predicted, precision;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-5, 5);
+  for (int i = 0; i < 50; ++i) {
+    std::array<double, 6> a{}, p{}, q{};
+    for (std::size_t j = 0; j < 6; ++j) {
+      a[j] = U(rng);
+      p[j] = a[j] + 0.1 * U(rng);
+      q[j] = 1.0 + std::fabs(U(rng));
+    }
+    actual.push_back(a);
+    predicted.push_back(p);
+    precision.push_back(q);
+  }
+  writeScatterPlot(dir + "/coloured.png", "coloured", actual, predicted, precision);
+  writeScatterPlot(dir + "/plain.png", "plain", actual, predicted, {});
+  writeScatterPlot(dir + "/empty.png", "empty", {}, {}, {});
+  // A marker is a filled circle of radius 2 (about 13 px); overlaps allowed, at least 100 px.
+  for (const char* name : {"coloured.png", "plain.png"}) {
+    const auto n = markerPixels(dir + "/" + name);
+    for (int c = 0; c < 6; ++c) {
+      INFO(name << " panel " << c);
+      CHECK(n[static_cast<std::size_t>(c)] >= 100);
+    }
+  }
+  const auto none = markerPixels(dir + "/empty.png");
+  for (int c = 0; c < 6; ++c) CHECK(none[static_cast<std::size_t>(c)] == 0);
+}
 
 TEST_CASE("replay: labels match the Python reference (examples/gdn/labels_reference.csv)", "[perception][replay]") {
   const std::string path = std::string(LIESERVO_SOURCE_DIR) + "/examples/gdn/labels_reference.csv";
@@ -147,7 +207,14 @@ TEST_CASE("replay: end to end on real images with the tiny test models", "[perce
   }
   CHECK(std::isfinite(r.gdn_nll_rad));
   CHECK(r.plots.size() == 6);
-  for (const auto& p : r.plots) CHECK(fs::file_size(p) > 1000);
+  for (const auto& p : r.plots) {
+    // Every panel of every figure the replay writes holds its 40 points.
+    const auto n = markerPixels(p);
+    for (int c = 0; c < 6; ++c) {
+      INFO(p << " panel " << c);
+      CHECK(n[static_cast<std::size_t>(c)] >= 100);
+    }
+  }
   const std::string md = r.markdown(o, "lieservo_replay --quick 40");
   CHECK(md.find("Table 1") != std::string::npos);
   CHECK(md.find("Table 2") != std::string::npos);
