@@ -326,6 +326,7 @@ ReplayResults runReplay(const ReplayOptions& opt) {
     for (std::size_t i = 0; i < n; ++i) {
       auto p = ad::OnnxPoseModel::fromRaw(card, raw.gdn[i].data());
       if (!p) throw std::runtime_error(samples[i].image + ": GDN output: " + p.error().message);
+      if (!p->sigma) throw std::runtime_error(card.onnx_file + ": the GDN card has no sigma outputs");
       pred[i] = p.value();
     }
     return pred;
@@ -346,13 +347,14 @@ ReplayResults runReplay(const ReplayOptions& opt) {
   for (std::size_t i = 0; i < n; ++i) {
     actual[i] = toReportUnits(samples[i].xi);
     gdn_mu[i] = toReportUnits(SE3d::Tangent(gdn_pred[i].mu));
-    gdn_prec[i] = precisionReportUnits(gdn_pred[i].sigma);
+    const Eigen::Matrix<double, 6, 1>& sigma = *gdn_pred[i].sigma;  // present: checked when predicted
+    gdn_prec[i] = precisionReportUnits(sigma);
     for (std::size_t j = 0; j < 6; ++j) {
       const int jj = static_cast<int>(j);
       res.gdn_mae[j] += std::fabs(gdn_mu[i][j] - actual[i][j]);
       res.gdn_mean_sigma[j] += 1.0 / gdn_prec[i][j];
-      const double z = (samples[i].xi[j] - gdn_pred[i].mu(jj)) / gdn_pred[i].sigma(jj);  // mm, rad
-      nll += 0.5 * z * z + std::log(gdn_pred[i].sigma(jj));
+      const double z = (samples[i].xi[j] - gdn_pred[i].mu(jj)) / sigma(jj);  // mm, rad
+      nll += 0.5 * z * z + std::log(sigma(jj));
       if (with_cnn) {
         const double e = samples[i].xi[j] - cnn_pred[i].mu(jj);
         mse += alpha[j] * e * e;

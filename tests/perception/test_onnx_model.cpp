@@ -93,9 +93,11 @@ TEST_CASE("onnx: a card's sigma calibration scales sigma and nothing else", "[pe
   auto a = OnnxPoseModel::fromRaw(plain, raw), b = OnnxPoseModel::fromRaw(c, raw);
   REQUIRE(a.ok());
   REQUIRE(b.ok());
+  REQUIRE(a->sigma.has_value());
+  REQUIRE(b->sigma.has_value());
   for (int j = 0; j < 6; ++j) {
     CHECK(b->mu(j) == a->mu(j));  // μ untouched
-    CHECK(b->sigma(j) == Approx(c.sigma_scale[static_cast<std::size_t>(j)] * a->sigma(j)).epsilon(1e-15));
+    CHECK((*b->sigma)(j) == Approx(c.sigma_scale[static_cast<std::size_t>(j)] * (*a->sigma)(j)).epsilon(1e-15));
   }
   for (std::size_t j = 0; j < 12; ++j) CHECK(b->raw[j] == raw[j]);  // the network's outputs as returned
 
@@ -133,13 +135,14 @@ TEST_CASE("onnx: tiny GDN through cv::dnn matches PyTorch and converts units", "
     const auto ref = reference("gdn", k);
     REQUIRE(ref.size() == 12);
     const Prediction& p = (*all)[static_cast<std::size_t>(k)];
-    CHECK(p.has_uncertainty);
+    REQUIRE(p.sigma.has_value());
+    REQUIRE(p.precisionSqrt().has_value());
     for (std::size_t j = 0; j < 12; ++j) CHECK(p.raw[j] == Approx(ref[j]).margin(1e-5));
     for (int j = 0; j < 6; ++j) {
       const double f = j < 3 ? 1.0 : kDeg;  // the card: mm, mm, mm, deg, deg, deg
       CHECK(p.mu(j) == Approx(ref[static_cast<std::size_t>(j)] * f).margin(1e-7));
-      CHECK(p.sigma(j) == Approx(f / ref[static_cast<std::size_t>(6 + j)]).epsilon(1e-5));
-      CHECK(p.precisionSqrt()(j) == Approx(ref[static_cast<std::size_t>(6 + j)] / f).epsilon(1e-5));
+      CHECK((*p.sigma)(j) == Approx(f / ref[static_cast<std::size_t>(6 + j)]).epsilon(1e-5));
+      CHECK((*p.precisionSqrt())(j) == Approx(ref[static_cast<std::size_t>(6 + j)] / f).epsilon(1e-5));
     }
     // Single-image path = batch path.
     auto one = gdn.predict(batch[static_cast<std::size_t>(k)]);
@@ -163,13 +166,13 @@ TEST_CASE("onnx: tiny CNN regression mode returns mu only", "[perception][onnx]"
   for (int k = 0; k < 3; ++k) {
     auto p = cnn.predict(syntheticInput(k));
     REQUIRE(p.ok());
-    CHECK_FALSE(p->has_uncertainty);
+    CHECK_FALSE(p->sigma.has_value());
+    CHECK_FALSE(p->precisionSqrt().has_value());
     const auto ref = reference("cnn", k);
     REQUIRE(ref.size() == 6);
     for (int j = 0; j < 6; ++j) {
       CHECK(p->raw[static_cast<std::size_t>(j)] == Approx(ref[static_cast<std::size_t>(j)]).margin(1e-5));
       CHECK(p->mu(j) == Approx(ref[static_cast<std::size_t>(j)] * (j < 3 ? 1.0 : kDeg)).margin(1e-7));
-      CHECK(p->sigma(j) < 0.0);
     }
   }
 }
@@ -216,7 +219,8 @@ TEST_CASE("onnx: a GDN prediction as the SE(3) observation Gaussian (eq:se3_inve
   const lieservo::SE3d::Tangent mu = p->mu;
   CHECK(obs.mean.isApprox(lieservo::SE3d::exp(mu), 1e-12));
   const lieservo::SE3d::Jacobian J = lieservo::SE3d::leftJacobian(mu);
-  const lieservo::SE3d::Jacobian S = p->sigma.array().square().matrix().asDiagonal();
+  REQUIRE(p->sigma.has_value());
+  const lieservo::SE3d::Jacobian S = p->sigma->array().square().matrix().asDiagonal();
   CHECK((obs.covariance - J * S * J.transpose()).norm() <= 1e-12 * S.norm());
   CHECK(obs.validate() == lieservo::Status::ok);
 
@@ -229,6 +233,7 @@ TEST_CASE("onnx: a GDN prediction as the SE(3) observation Gaussian (eq:se3_inve
   CHECK(obs.mean.isApprox(before.mean, 0.0));
   // A non-positive σ: not_spd.
   Prediction bad = *p;
-  bad.sigma(2) = 0.0;
+  REQUIRE(bad.sigma.has_value());
+  (*bad.sigma)(2) = 0.0;
   CHECK(toObservation(bad, obs) == lieservo::Status::not_spd);
 }

@@ -223,7 +223,8 @@ Result<std::vector<Prediction>> OnnxPoseModel::predictBatch(const std::vector<cv
 
 Result<Prediction> OnnxPoseModel::fromRaw(const ModelCard& card, const double* raw) {
   Prediction p;
-  p.has_uncertainty = card.outputs == 12;
+  const bool gdn = card.outputs == 12;
+  Eigen::Matrix<double, 6, 1> sigma;
   for (int j = 0; j < card.outputs; ++j) {
     p.raw[static_cast<std::size_t>(j)] = raw[j];
     if (!std::isfinite(raw[j]))
@@ -232,14 +233,15 @@ Result<Prediction> OnnxPoseModel::fromRaw(const ModelCard& card, const double* r
   for (int j = 0; j < 6; ++j) {
     const double f = card.to_library[static_cast<std::size_t>(j)];
     p.mu(j) = raw[j] * f;
-    if (p.has_uncertainty) {
+    if (gdn) {
       const double s_inv = raw[6 + j];
       if (!(s_inv > 0.0))
         return makeError(ErrorCode::non_finite_output,
                          "sigma^-1 of component " + std::to_string(j + 1) + " is not positive");
-      p.sigma(j) = f * card.sigma_scale[static_cast<std::size_t>(j)] / s_inv;  // σ = 1/σ⁻¹, library units
+      sigma(j) = f * card.sigma_scale[static_cast<std::size_t>(j)] / s_inv;  // σ = 1/σ⁻¹, library units
     }
   }
+  if (gdn) p.sigma = sigma;
   return p;
 }
 

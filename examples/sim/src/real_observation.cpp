@@ -128,8 +128,12 @@ Status RealGdnObservations::prediction(std::size_t i, Vec6& mu, Vec6& sigma) noe
         return p.error().code == adapters::ErrorCode::non_finite_output ? Status::numerical_failure
                                                                           : Status::invalid_argument;
       }
+      if (!p->sigma) {
+        I.last_error = I.paths[i] + ": the model gives no sigma (a CNN, not a GDN)";
+        return Status::invalid_argument;
+      }
       c.mu = p->mu;
-      c.sigma = p->sigma;
+      c.sigma = *p->sigma;
       c.done = true;
       ++I.evaluated;
     } catch (const std::exception& e) {  // e.g. out of memory: the per-step path never throws

@@ -16,8 +16,8 @@ namespace lieservo::adapters {
 /// (non_finite_input, not_spd for σ ≤ 0, numerical_failure). `out` unchanged unless ok.
 template <class Policy = ClosedFormJacobian>
 Status toObservation(const Prediction& p, ConcentratedGaussian<SE3d>& out) noexcept {
-  if (!p.has_uncertainty) return Status::invalid_argument;
-  return fromTangentGaussian<Policy>(SE3d::Tangent(p.mu), SE3d::Tangent(p.sigma), out);
+  if (!p.sigma) return Status::invalid_argument;
+  return fromTangentGaussian<Policy>(SE3d::Tangent(p.mu), SE3d::Tangent(*p.sigma), out);
 }
 
 }  // namespace lieservo::adapters

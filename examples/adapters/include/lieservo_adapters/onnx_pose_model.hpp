@@ -9,6 +9,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -53,11 +54,15 @@ struct ModelCard {
 /// One network evaluation, in library units (mm, rad).
 struct Prediction {
   Eigen::Matrix<double, 6, 1> mu = Eigen::Matrix<double, 6, 1>::Zero();        ///< ξ estimate [ρ; φ]
-  Eigen::Matrix<double, 6, 1> sigma = Eigen::Matrix<double, 6, 1>::Constant(-1);  ///< std dev; < 0 for a CNN
+  /// Std dev σ (mm, rad) of a GDN's prediction; a CNN (regression head only) has none.
+  std::optional<Eigen::Matrix<double, 6, 1>> sigma;
   std::array<double, 12> raw{};  ///< the network's outputs as returned (network units)
-  bool has_uncertainty = false;
-  /// σ⁻¹ in library units (1/mm, 1/rad); only meaningful when has_uncertainty.
-  Eigen::Matrix<double, 6, 1> precisionSqrt() const { return sigma.cwiseInverse(); }
+  bool hasUncertainty() const noexcept { return sigma.has_value(); }
+  /// σ⁻¹ in library units (1/mm, 1/rad); nullopt for a CNN.
+  std::optional<Eigen::Matrix<double, 6, 1>> precisionSqrt() const {
+    if (!sigma) return std::nullopt;
+    return Eigen::Matrix<double, 6, 1>(sigma->cwiseInverse());
+  }
 };
 
 class OnnxPoseModel {
