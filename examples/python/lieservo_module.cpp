@@ -1,0 +1,363 @@
+// The `lieservo` Python module (pybind11): the groups, concentrated Gaussians and their fusion,
+// and the discriminative Bayes filter, in double precision, with NumPy arrays in and out.
+//
+// Conventions are the library's (docs/conventions.md): ξ = [ρ; φ] translation first, left
+// perturbation X = exp(ε^) X̄, radians. A Status other than ok becomes a lieservo.Error (a
+// ValueError) whose `status` names the code; the object it was called on is left unchanged.
+// Shapes are checked by pybind11's Eigen casters: a 4×4 for SE(3), 6-vectors for its tangent;
+// anything else raises TypeError naming the expected signature.
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <lieservo/lieservo.hpp>
+
+#include <cstddef>
+#include <sstream>
+#include <string>
+
+namespace py = pybind11;
+using namespace lieservo;
+
+namespace {
+
+/// Raised for every Status other than ok (outlier_rejected is reported, not raised).
+struct StatusError {
+  Status status;
+  std::string where;
+};
+
+const char* statusName(Status s) {
+  switch (s) {
+    case Status::ok: return "ok";
+    case Status::non_finite_input: return "non_finite_input";
+    case Status::not_orthonormal: return "not_orthonormal";
+    case Status::not_spd: return "not_spd";
+    case Status::invalid_time_step: return "invalid_time_step";
+    case Status::not_initialised: return "not_initialised";
+    case Status::invalid_argument: return "invalid_argument";
+    case Status::outlier_rejected: return "outlier_rejected";
+    case Status::not_converged: return "not_converged";
+    case Status::numerical_failure: return "numerical_failure";
+  }
+  return "unknown";
+}
+
+void check(Status s, const char* where) {
+  if (s != Status::ok) throw StatusError{s, where};
+}
+
+template <class G>
+G checkedFromMatrix(const typename G::Matrix& M) {
+  G out;
+  check(G::fromMatrix(M, out), "from_matrix");
+  return out;
+}
+
+template <class G>
+G checkedFromMatrixProjected(const typename G::Matrix& M) {
+  G out;
+  check(G::fromMatrixProjected(M, out), "from_matrix_projected");
+  return out;
+}
+
+/// A matrix as a 2-D array whatever its size: pybind11 would hand a 1×1 Eigen matrix (SO(2)'s
+/// Jacobians) back as a 1-D array.
+template <class M>
+py::array_t<double> matrix2d(const M& m) {
+  py::array_t<double> a({py::ssize_t(m.rows()), py::ssize_t(m.cols())});
+  auto o = a.template mutable_unchecked<2>();
+  for (Eigen::Index r = 0; r < m.rows(); ++r)
+    for (Eigen::Index c = 0; c < m.cols(); ++c) o(r, c) = m(r, c);
+  return a;
+}
+
+/// Rows of an (N, D) float64 array, C-contiguous (NumPy converts other layouts on the way in).
+using Rows = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+template <class G>
+void requireShape(const Rows& a, std::initializer_list<py::ssize_t> tail, const char* what) {
+  const auto nd = static_cast<std::size_t>(a.ndim());
+  bool ok = nd == tail.size() + 1;
+  std::size_t k = 1;
+  for (py::ssize_t t : tail) ok = ok && a.shape(static_cast<py::ssize_t>(k++)) == t;
+  if (!ok) {
+    std::ostringstream m;
+    m << what << ": expected an array of shape (N";
+    for (py::ssize_t t : tail) m << ", " << t;
+    m << "), got ndim " << nd;
+    throw py::value_error(m.str());
+  }
+}
+
+/// The methods every group shares; `name` is the Python class name.
+template <class G>
+py::class_<G> bindGroup(py::module_& m, const char* name, const char* doc) {
+  using Tangent = typename G::Tangent;
+  using Matrix = typename G::Matrix;
+  using Jacobian = typename G::Jacobian;
+  constexpr int D = G::DoF;
+  constexpr int N = static_cast<int>(Matrix::RowsAtCompileTime);
+  py::class_<G> c(m, name, doc);
+  c.def(py::init<>(), "The identity.")
+      .def_static("identity", &G::identity)
+      .def_static("exp", [](const Tangent& xi) { return G::exp(xi); }, py::arg("xi"),
+                  "exp(ξ^): the element of the tangent vector ξ (translation first, radians).")
+      .def("log", [](const G& X) { return Tangent(X.log()); }, "ln(X)^∨, principal branch.")
+      .def("inverse", &G::inverse)
+      .def("Ad", [](const G& X) { return matrix2d(Jacobian(X.Ad())); }, "The adjoint matrix Ad(X).")
+      .def_static("ad", [](const Tangent& xi) { return matrix2d(Jacobian(G::ad(xi))); }, py::arg("xi"))
+      .def_static("hat", [](const Tangent& xi) { return Matrix(G::hat(xi)); }, py::arg("xi"))
+      .def_static("vee", [](const Matrix& M) { return Tangent(G::vee(M)); }, py::arg("M"))
+      .def_static("left_jacobian", [](const Tangent& xi) { return matrix2d(Jacobian(G::leftJacobian(xi))); },
+                  py::arg("xi"), "J(ξ), closed form (eqn:se3_left_jacobian for SE(3)).")
+      .def_static("left_jacobian_inverse",
+                  [](const Tangent& xi) { return matrix2d(Jacobian(G::leftJacobianInverse(xi))); }, py::arg("xi"))
+      .def("matrix", [](const G& X) { return Matrix(X.matrix()); }, "The homogeneous (or rotation) matrix.")
+      .def_static("from_matrix", &checkedFromMatrix<G>, py::arg("M"),
+                  "Checked: finite, orthonormal rotation with det +1 (1e-9), homogeneous bottom row.")
+      .def_static("from_matrix_projected", &checkedFromMatrixProjected<G>, py::arg("M"),
+                  "The nearest element to M (rotation block projected onto the group).")
+      .def("__mul__", [](const G& a, const G& b) { return G(a * b); }, py::is_operator())
+      .def("compose", [](const G& a, const G& b) { return G(a * b); }, py::arg("other"))
+      .def("act", [](const G& X, const typename G::Point& p) { return typename G::Point(X * p); }, py::arg("p"),
+           "X·p for a point p.")
+      .def("lplus", [](const G& X, const Tangent& e) { return lplus(X, e); }, py::arg("eps"),
+           "X ⊕ ε = exp(ε^) X.")
+      .def("lminus", [](const G& X, const G& Y) { return Tangent(lminus(X, Y)); }, py::arg("Y"),
+           "X ⊖ Y = ln(X Y⁻¹)^∨.")
+      .def("is_approx", [](const G& a, const G& b, double tol) { return a.isApprox(b, tol); }, py::arg("other"),
+           py::arg("tol") = 1e-12)
+      .def("__repr__", [name](const G& X) {
+        std::ostringstream s;
+        s << name << "(\n" << X.matrix() << ")";
+        return s.str();
+      });
+  c.attr("dof") = D;
+  // Batches: one call for N elements, where a Python loop would dominate.
+  c.def_static(
+      "exp_batch",
+      [](const Rows& xi) {
+        requireShape<G>(xi, {D}, "exp_batch");
+        const py::ssize_t n = xi.shape(0);
+        py::array_t<double> out({n, py::ssize_t(N), py::ssize_t(N)});
+        auto in = xi.unchecked<2>();
+        auto o = out.mutable_unchecked<3>();
+        for (py::ssize_t k = 0; k < n; ++k) {
+          Tangent t;
+          for (int j = 0; j < D; ++j) t(j) = in(k, j);
+          const Matrix M = G::exp(t).matrix();
+          for (int r = 0; r < N; ++r)
+            for (int q = 0; q < N; ++q) o(k, r, q) = M(r, q);
+        }
+        return out;
+      },
+      py::arg("xi"), "exp of each row of an (N, dof) array: an (N, n, n) array of matrices.");
+  c.def_static(
+      "log_batch",
+      [](const Rows& Ms) {
+        requireShape<G>(Ms, {N, N}, "log_batch");
+        const py::ssize_t n = Ms.shape(0);
+        py::array_t<double> out({n, py::ssize_t(D)});
+        auto in = Ms.unchecked<3>();
+        auto o = out.mutable_unchecked<2>();
+        for (py::ssize_t k = 0; k < n; ++k) {
+          Matrix M;
+          for (int r = 0; r < N; ++r)
+            for (int q = 0; q < N; ++q) M(r, q) = in(k, r, q);
+          G X;
+          const Status s = G::fromMatrix(M, X);
+          if (s != Status::ok) throw StatusError{s, "log_batch"};
+          const Tangent t = X.log();
+          for (int j = 0; j < D; ++j) o(k, j) = t(j);
+        }
+        return out;
+      },
+      py::arg("M"), "log of each (checked) matrix of an (N, n, n) array: an (N, dof) array.");
+  c.def_static(
+      "compose_batch",
+      [](const Rows& A, const Rows& B) {
+        requireShape<G>(A, {N, N}, "compose_batch");
+        requireShape<G>(B, {N, N}, "compose_batch");
+        if (A.shape(0) != B.shape(0)) throw py::value_error("compose_batch: A and B differ in length");
+        const py::ssize_t n = A.shape(0);
+        py::array_t<double> out({n, py::ssize_t(N), py::ssize_t(N)});
+        auto a = A.unchecked<3>();
+        auto b = B.unchecked<3>();
+        auto o = out.mutable_unchecked<3>();
+        for (py::ssize_t k = 0; k < n; ++k) {
+          Matrix Ma, Mb;
+          for (int r = 0; r < N; ++r)
+            for (int q = 0; q < N; ++q) {
+              Ma(r, q) = a(k, r, q);
+              Mb(r, q) = b(k, r, q);
+            }
+          G Xa, Xb;
+          Status s = G::fromMatrix(Ma, Xa);
+          if (s == Status::ok) s = G::fromMatrix(Mb, Xb);
+          if (s != Status::ok) throw StatusError{s, "compose_batch"};
+          const Matrix M = (Xa * Xb).matrix();
+          for (int r = 0; r < N; ++r)
+            for (int q = 0; q < N; ++q) o(k, r, q) = M(r, q);
+        }
+        return out;
+      },
+      py::arg("A"), py::arg("B"), "A[k]·B[k] for (N, n, n) arrays of (checked) matrices.");
+  return c;
+}
+
+/// ConcentratedGaussian<G>, fromTangentGaussian, fuse and the filter for one group.
+template <class G>
+void bindEstimation(py::module_& m, const std::string& suffix) {
+  using Gaussian = ConcentratedGaussian<G>;
+  using Tangent = typename G::Tangent;
+  using Jacobian = typename G::Jacobian;
+  const std::string gname = "ConcentratedGaussian" + suffix;
+  py::class_<Gaussian>(m, gname.c_str(),
+                       "X = exp(ε^) X̄ with ε ~ N(0, Σ): `mean` (a group element), `covariance`.")
+      .def(py::init([](const G& mean, const Jacobian& covariance) {
+             Gaussian g;
+             g.mean = mean;
+             g.covariance = covariance;
+             check(g.validate(), "ConcentratedGaussian");
+             return g;
+           }),
+           py::arg("mean"), py::arg("covariance"), "Checked: a valid mean and an SPD covariance.")
+      .def_property_readonly("mean", [](const Gaussian& g) { return g.mean; })
+      .def_property_readonly("covariance", [](const Gaussian& g) { return matrix2d(g.covariance); });
+
+  m.def(
+      ("from_tangent_gaussian" + suffix).c_str(),
+      [](const Tangent& mu, const Tangent& sigma) {
+        Gaussian out;
+        check(fromTangentGaussian<ClosedFormJacobian>(mu, sigma, out), "from_tangent_gaussian");
+        return out;
+      },
+      py::arg("mu"), py::arg("sigma"),
+      "A network's (μ, σ) as a concentrated Gaussian: X̄ = exp(μ^), Σ = J(μ) diag(σ²) J(μ)ᵀ "
+      "(eq:se3_inverse_transform).");
+
+  m.def(
+      ("fuse" + suffix).c_str(),
+      [](const Gaussian& a, const Gaussian& b, int max_iterations, double tolerance, const std::string& jacobian) {
+        FusionOptions<double> o;
+        o.max_iterations = max_iterations;
+        o.tolerance = tolerance;
+        FusionResult<G> r;
+        Status s;
+        if (jacobian == "paper")
+          s = fuse<PaperJacobian>(a, b, o, r);
+        else if (jacobian == "closed_form")
+          s = fuse<ClosedFormJacobian>(a, b, o, r);
+        else
+          throw py::value_error("fuse: jacobian must be 'paper' or 'closed_form', got '" + jacobian + "'");
+        check(s, "fuse");
+        py::dict d;
+        d["fused"] = r.fused;
+        d["iterations"] = r.iterations;
+        d["step_norm"] = r.step_norm;
+        d["max_rotation_separation"] = r.max_rotation_separation;
+        return d;
+      },
+      py::arg("a"), py::arg("b"), py::arg("max_iterations") = 5, py::arg("tolerance") = 0.0,
+      py::arg("jacobian") = "paper",
+      "The normalised product of two concentrated Gaussians (alg:se3_data_fusion). Returns a dict: "
+      "fused, iterations, step_norm, max_rotation_separation.");
+
+  using Filter = DiscriminativeBayesFilter<G, PaperJacobian>;
+  const std::string fname = "DiscriminativeBayesFilter" + suffix;
+  py::class_<Filter>(m, fname.c_str(),
+                     "The discriminative Bayes filter (alg:se3_bayes_filter), series J⁻¹ N = 2 as the paper.")
+      .def(py::init([](const py::object& process_noise, int max_iterations, double tolerance, bool gating,
+                       double gate_probability) {
+             typename Filter::Options o;
+             if (!process_noise.is_none()) o.process_noise = process_noise.cast<Jacobian>();
+             o.fusion.max_iterations = max_iterations;
+             o.fusion.tolerance = tolerance;
+             o.gating = gating;
+             o.gate_probability = gate_probability;
+             check(Filter::validate(o), "DiscriminativeBayesFilter");
+             return Filter(o);
+           }),
+           py::arg("process_noise") = py::none(), py::arg("max_iterations") = 5, py::arg("tolerance") = 0.0,
+           py::arg("gating") = false, py::arg("gate_probability") = 0.999,
+           "process_noise: Σφ (default: the paper's σφ = 0.5 mm and 0.5°, in radians).")
+      .def(
+          "step",
+          [](Filter& f, const G& sensor_pose, const Gaussian& observation) {
+            const Status s = f.step(sensor_pose, observation);
+            if (s == Status::outlier_rejected) return false;
+            check(s, "step");
+            return true;
+          },
+          py::arg("sensor_pose"), py::arg("observation"),
+          "One filter step; the first initialises. Returns True, or False when the gate rejected the "
+          "observation (the state is then the prediction). Raises lieservo.Error otherwise, state unchanged.")
+      .def("reset", &Filter::reset)
+      .def_property_readonly("initialised", &Filter::initialised)
+      .def_property_readonly("filtered", [](const Filter& f) { return f.filtered(); }, "The filtered Gaussian.")
+      .def_property_readonly("belief", [](const Filter& f) { return f.belief(); }, "The predicted Gaussian of the latest step.")
+      .def_property_readonly("diagnostics", [](const Filter& f) {
+        const auto& d = f.diagnostics();
+        py::dict r;
+        r["last_status"] = statusName(d.last_status);
+        r["iterations"] = d.iterations;
+        r["step_norm"] = d.step_norm;
+        r["nis"] = d.nis;
+        r["gated"] = d.gated;
+        r["corrections"] = d.corrections;
+        r["rejected"] = d.rejected;
+        return r;
+      });
+}
+
+}  // namespace
+
+PYBIND11_MODULE(lieservo, m) {
+  m.doc() = "lieservo: Lie groups, concentrated Gaussians, fusion and the discriminative Bayes filter "
+            "of pose-and-shear tactile servoing (double precision).";
+  static py::exception<StatusError> error(m, "Error", PyExc_ValueError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const StatusError& e) {
+      PyObject* type = error.ptr();
+      py::object inst = py::reinterpret_steal<py::object>(
+          PyObject_CallFunction(type, "s", (std::string(e.where) + ": " + describe(e.status) + " (" +
+                                            statusName(e.status) + ")").c_str()));
+      if (!inst) return;  // the Python error set by the failed call propagates
+      inst.attr("status") = statusName(e.status);
+      PyErr_SetObject(type, inst.ptr());
+    }
+  });
+
+  bindGroup<SO2d>(m, "SO2", "Rotations of the plane; tangent: [θ].");
+  bindGroup<SE2d>(m, "SE2", "Rigid motions of the plane; tangent: [ρx, ρy, θ].")
+      .def_property_readonly("translation", [](const SE2d& X) { return Eigen::Vector2d(X.translation()); });
+  auto so3 = bindGroup<SO3d>(m, "SO3", "Rotations; tangent: φ (axis·angle, radians).");
+  so3.def("quaternion", [](const SO3d& R) {
+       const auto q = R.unitQuaternion();
+       return Eigen::Vector4d(q.w(), q.x(), q.y(), q.z());
+     }, "Unit quaternion [w, x, y, z], w ≥ 0.")
+      .def_static("from_quaternion", [](const Eigen::Vector4d& wxyz) {
+        if (!wxyz.allFinite() || !(wxyz.squaredNorm() > 0.0)) throw StatusError{Status::invalid_argument, "from_quaternion"};
+        return SO3d::fromQuaternion(Eigen::Quaterniond(wxyz(0), wxyz(1), wxyz(2), wxyz(3)));
+      }, py::arg("wxyz"), "From a non-zero quaternion [w, x, y, z] (normalised).");
+  auto se3 = bindGroup<SE3d>(m, "SE3", "Rigid motions; tangent: ξ = [ρ; φ] (translation first).");
+  se3.def(py::init([](const SO3d& R, const Eigen::Vector3d& t) { return SE3d(R, t); }), py::arg("rotation"),
+          py::arg("translation"))
+      .def_property_readonly("rotation", [](const SE3d& X) { return X.so3(); })
+      .def_property_readonly("translation", [](const SE3d& X) { return Eigen::Vector3d(X.translation()); })
+      .def_static("from_euler_xyz6_degrees", [](const Eigen::Matrix<double, 6, 1>& e) {
+        if (!e.allFinite()) throw StatusError{Status::non_finite_input, "from_euler_xyz6_degrees"};
+        return SE3d::fromEulerXYZ6Degrees(e);
+      }, py::arg("e"), "From (x, y, z, α, β, γ): extrinsic x-y-z Euler angles in degrees (the data set's labels).");
+
+  bindEstimation<SE3d>(m, "");
+  bindEstimation<SE2d>(m, "_se2");
+  bindEstimation<SO3d>(m, "_so3");
+
+  m.def("paper_process_noise", []() { return Eigen::Matrix<double, 6, 6>(paperProcessNoise<SE3d>()); },
+        "Σφ of the paper's state dynamics on SE(3): σ = 0.5 mm and 0.5° (in radians).");
+}
