@@ -13,6 +13,7 @@
 
 #include <lieservo/lieservo.hpp>
 
+#include <cmath>
 #include <cstddef>
 #include <sstream>
 #include <string>
@@ -294,6 +295,19 @@ void bindEstimation(py::module_& m, const std::string& suffix) {
           py::arg("sensor_pose"), py::arg("observation"),
           "One filter step; the first initialises. Returns True, or False when the gate rejected the "
           "observation (the state is then the prediction). Raises lieservo.Error otherwise, state unchanged.")
+      .def(
+          "predict",
+          [](Filter& f, const G& T_bar) { check(f.predict(T_bar), "predict"); }, py::arg("T_bar"),
+          "The prediction alone, with the relative motion T̄_k (eqn:bayes_filter_prediction).")
+      .def(
+          "correct",
+          [](Filter& f, const Gaussian& observation) {
+            const Status s = f.correct(observation);
+            if (s == Status::outlier_rejected) return false;
+            check(s, "correct");
+            return true;
+          },
+          py::arg("observation"), "The correction alone (data fusion with the belief); False when gated.")
       .def("reset", &Filter::reset)
       .def_property_readonly("initialised", &Filter::initialised)
       .def_property_readonly("filtered", [](const Filter& f) { return f.filtered(); }, "The filtered Gaussian.")
@@ -310,6 +324,156 @@ void bindEstimation(py::module_& m, const std::string& suffix) {
         r["rejected"] = d.rejected;
         return r;
       });
+}
+
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+
+PaperGainConvention convention(double control_period) {
+  if (!(control_period > 0.0) || !std::isfinite(control_period))
+    throw py::value_error("control_period must be finite and > 0 (seconds)");
+  PaperGainConvention c;
+  c.control_period = control_period;
+  return c;
+}
+
+/// The paper's controllers (Tables 6-9) on SE(3), double.
+void bindControl(py::module_& m) {
+  using Pid = MimoPid<double, 6>;
+  py::class_<Pid>(m, "MimoPid", "The 6-channel PID with feedforward (eqn:pid_control), diagonal gains.")
+      .def(py::init([](const Vec6& kp, const Vec6& ki, const Vec6& kd, double integral_clip, double output_clip,
+                       double smoothing) {
+             Pid::Options o = Pid::Options::diagonal(kp, ki, kd);
+             o.clipIntegral(-integral_clip, integral_clip).clipOutput(-output_clip, output_clip);
+             o.smoothing = smoothing;
+             check(Pid::validate(o), "MimoPid");
+             return Pid(o);
+           }),
+           py::arg("kp"), py::arg("ki"), py::arg("kd"), py::arg("integral_clip") = INFINITY,
+           py::arg("output_clip") = INFINITY, py::arg("smoothing") = 1.0,
+           "Gains per channel (kp 1/s, ki 1/s², kd dimensionless), symmetric clips of ∫e dt and u, and the "
+           "per-step weight α ∈ (0, 1] of the newest error in the smoothed error (1 = none).")
+      .def(
+          "update",
+          [](Pid& pid, const Vec6& error, const Vec6& feedforward, double dt) {
+            Vec6 u;
+            check(pid.update(error, feedforward, dt, u), "update");
+            return u;
+          },
+          py::arg("error"), py::arg("feedforward"), py::arg("dt"))
+      .def("reset", &Pid::reset);
+
+  using Servo = TactileServoController<SE3d>;
+  py::class_<Servo>(m, "TactileServoController",
+                    "Feedforward-feedback PID in the tangent space (sec:servoing_controller).")
+      .def(py::init([](const std::string& preset, double control_period) {
+             const PaperGainConvention c = convention(control_period);
+             Servo::Options o;
+             if (preset == "object_tracking")
+               o = objectTrackingPreset<double>(c);
+             else if (preset == "surface_following")
+               o = surfaceFollowingPreset<double>(c);
+             else if (preset == "stabiliser")
+               o = stabiliserPreset<double>(false, c);
+             else if (preset == "stabiliser_tall")
+               o = stabiliserPreset<double>(true, c);
+             else
+               throw py::value_error("TactileServoController: preset must be object_tracking, surface_following, "
+                                     "stabiliser or stabiliser_tall, got '" + preset + "'");
+             return Servo(o);
+           }),
+           py::arg("preset") = "object_tracking", py::arg("control_period") = 0.05,
+           "A paper preset (Table 6: object_tracking; 7: surface_following; 9: stabiliser, stabiliser_tall) "
+           "with its per-step gains converted at control_period (s).")
+      .def(
+          "step",
+          [](Servo& c, const SE3d& feature_in_sensor, double dt) {
+            Vec6 u;
+            check(c.step(feature_in_sensor, dt, u), "step");
+            return u;
+          },
+          py::arg("feature_in_sensor"), py::arg("dt"),
+          "One cycle: X_sf (filtered) and dt > 0 → the sensor body twist u = [v (mm/s); ω (rad/s)].")
+      .def("set_reference", [](Servo& c, const SE3d& X) { check(c.setReference(X), "set_reference"); },
+           py::arg("reference_sensor_in_feature"))
+      .def("set_feedforward", [](Servo& c, const Vec6& v) { check(c.setFeedforward(v), "set_feedforward"); },
+           py::arg("feedforward_in_reference"))
+      .def("reset", &Servo::reset)
+      .def_property_readonly("tangent_error", [](const Servo& c) { return Vec6(c.tangentError()); })
+      .def_property_readonly("reference", [](const Servo& c) { return c.options().reference; });
+
+  m.def("surface_following_feedforward",
+        [](double heading, double speed) { return Vec6(surfaceFollowingFeedforward<double>(heading, speed)); },
+        py::arg("heading"), py::arg("speed") = paper::kSurfaceFollowingSpeed,
+        "u_s'2 = (speed cos θ, speed sin θ, 0, 0, 0, 0) for a heading θ (rad), speed in mm/s.");
+
+  using Push = PushingController<double>;
+  py::class_<Push>(m, "PushingController", "Tactile pushing towards a target (sec:pushing_controller, Table 8).")
+      .def(py::init([](const std::string& configuration, const SE3d& target, double control_period) {
+             PushingConfiguration k;
+             if (configuration == "single_arm")
+               k = PushingConfiguration::single_arm;
+             else if (configuration == "dual_arm_leader")
+               k = PushingConfiguration::dual_arm_leader;
+             else if (configuration == "dual_arm_leader_tall_object")
+               k = PushingConfiguration::dual_arm_leader_tall_object;
+             else
+               throw py::value_error("PushingController: configuration must be single_arm, dual_arm_leader or "
+                                     "dual_arm_leader_tall_object, got '" + configuration + "'");
+             Push::Options o = pushingPreset<double>(k, convention(control_period));
+             o.target = target;
+             check(Push::validate(o), "PushingController");
+             return Push(o);
+           }),
+           py::arg("configuration") = "single_arm", py::arg("target") = SE3d(), py::arg("control_period") = 0.05)
+      .def(
+          "step",
+          [](Push& c, const SE3d& sensor_in_work, const SE3d& feature_in_sensor, double dt) {
+            Vec6 u;
+            check(c.step(sensor_in_work, feature_in_sensor, dt, u), "step");
+            return u;
+          },
+          py::arg("sensor_in_work"), py::arg("feature_in_sensor"), py::arg("dt"),
+          "One cycle: X_ws, X_sf (filtered), dt > 0 → the sensor body twist (zero once terminated).")
+      .def("set_target", [](Push& c, const SE3d& X) { check(c.setTarget(X), "set_target"); }, py::arg("target_in_work"))
+      .def("reset", &Push::reset)
+      .def_property_readonly("terminated", &Push::terminated)
+      .def_property_readonly("bearing", &Push::bearing, "Target bearing (rad) of the last step.")
+      .def_property_readonly("distance", &Push::distance, "Target distance (mm) of the last step.");
+
+  using Dual = DualArmPushing<double>;
+  py::class_<Dual>(m, "DualArmPushing",
+                   "Leader pushing (Table 8) and follower stabiliser (Table 9), each with its own filter.")
+      .def(py::init([](bool tall_object, const SE3d& target, double control_period) {
+             Dual::Options o = dualArmPushingPreset<double>(tall_object, convention(control_period));
+             o.leader.target = target;
+             check(Dual::validate(o), "DualArmPushing");
+             return Dual(o, DiscriminativeBayesFilter<SE3d>(), DiscriminativeBayesFilter<SE3d>());
+           }),
+           py::arg("tall_object") = false, py::arg("target") = SE3d(), py::arg("control_period") = 0.05)
+      .def(
+          "step",
+          [](Dual& d, const SE3d& leader_pose, const ConcentratedGaussian<SE3d>& leader_observation,
+             const SE3d& follower_pose, const ConcentratedGaussian<SE3d>& follower_observation, double dt) {
+            Dual::ArmInput li, fi;
+            li.sensor_pose = leader_pose;
+            li.observation = leader_observation;
+            fi.sensor_pose = follower_pose;
+            fi.observation = follower_observation;
+            Dual::ArmOutput lo, fo;
+            check(d.step(li, fi, dt, lo, fo), "step");
+            py::dict r;
+            r["leader_velocity"] = Vec6(lo.velocity);
+            r["follower_velocity"] = Vec6(fo.velocity);
+            r["leader_feature_in_sensor"] = lo.feature_in_sensor;
+            r["follower_feature_in_sensor"] = fo.feature_in_sensor;
+            r["leader_gated"] = lo.filter_status == Status::outlier_rejected;
+            r["follower_gated"] = fo.filter_status == Status::outlier_rejected;
+            return r;
+          },
+          py::arg("leader_pose"), py::arg("leader_observation"), py::arg("follower_pose"),
+          py::arg("follower_observation"), py::arg("dt"),
+          "Filters both observations and steps both controllers; returns a dict of both twists and filtered poses.")
+      .def("reset", &Dual::reset);
 }
 
 }  // namespace
@@ -357,6 +521,8 @@ PYBIND11_MODULE(lieservo, m) {
   bindEstimation<SE3d>(m, "");
   bindEstimation<SE2d>(m, "_se2");
   bindEstimation<SO3d>(m, "_so3");
+
+  bindControl(m);
 
   m.def("paper_process_noise", []() { return Eigen::Matrix<double, 6, 6>(paperProcessNoise<SE3d>()); },
         "Σφ of the paper's state dynamics on SE(3): σ = 0.5 mm and 0.5° (in radians).");

@@ -178,3 +178,73 @@ def test_gate_rejects_an_outlier_and_reports_it():
     far = np.array([50.0, 0, 0, 0, 0, 0])
     assert f.step(ls.SE3(), ls.from_tangent_gaussian(far, sigma)) is False
     assert f.diagnostics["gated"] and f.diagnostics["rejected"] == 1
+
+
+# ---- controllers --------------------------------------------------------------------------
+
+def test_pid_is_proportional_with_feedforward():
+    kp = np.array([1.0, 2, 3, 4, 5, 6])
+    pid = ls.MimoPid(kp=kp, ki=np.zeros(6), kd=np.zeros(6))
+    e = np.array([0.1, -0.2, 0.3, 0.01, 0.02, -0.03])
+    v = np.array([1.0, 0, 0, 0, 0, 0.5])
+    assert np.max(np.abs(pid.update(e, v, 0.05) - (kp * e + v))) < 1e-15
+    with pytest.raises(ls.Error) as err:
+        pid.update(e, v, 0.0)
+    assert err.value.status == "invalid_time_step"
+    with pytest.raises(ls.Error):
+        ls.MimoPid(kp=kp, ki=kp, kd=kp, smoothing=0.0)
+
+
+def test_servo_at_its_reference_commands_nothing_and_moves_towards_it_otherwise():
+    c = ls.TactileServoController("object_tracking")
+    X_ref = c.reference                      # X_fs' (6 mm depth, Table 6)
+    # The filtered X_sf equal to the reference's inverse: no error, no twist.
+    u = c.step(X_ref.inverse(), 0.05)
+    assert np.max(np.abs(u)) < 1e-12
+    # The sensor 2 mm too deep (X_fs = X_ref with z 8 mm): the z velocity must reduce the depth.
+    X_fs = ls.SE3(ls.SO3(), X_ref.translation + np.array([0, 0, 2.0]))
+    c.reset()
+    u = c.step(X_fs.inverse(), 0.05)
+    assert u[2] < 0
+    assert np.all(np.isfinite(u))
+
+
+def test_servo_refuses_bad_input_and_keeps_its_state():
+    c = ls.TactileServoController("surface_following")
+    c.set_feedforward(ls.surface_following_feedforward(np.pi / 2))
+    X = ls.SE3.exp(np.array([0.1, 0.2, -3.0, 0.05, 0.0, 0.0]))
+    c.step(X, 0.05)
+    before = c.tangent_error.copy()
+    with pytest.raises(ls.Error) as e:
+        c.step(X, -1.0)
+    assert e.value.status == "invalid_time_step"
+    with pytest.raises(ls.Error) as e:
+        c.step(ls.SE3.exp(np.array([np.inf, 0, 0, 0, 0, 0])), 0.05)
+    assert e.value.status == "non_finite_input"
+    assert np.array_equal(c.tangent_error, before)
+    with pytest.raises(ValueError, match="preset"):
+        ls.TactileServoController("nope")
+    with pytest.raises(ValueError, match="control_period"):
+        ls.TactileServoController("object_tracking", control_period=0.0)
+
+
+def test_pushing_terminates_at_the_target():
+    target = ls.SE3(ls.SO3(), np.array([0.0, 0.0, 10.0]))       # 10 mm ahead of the sensor
+    c = ls.PushingController("single_arm", target=target)
+    u = c.step(ls.SE3(), ls.SE3(), 0.05)
+    assert c.terminated and np.array_equal(u, np.zeros(6))
+    far = ls.PushingController("single_arm", target=ls.SE3(ls.SO3(), np.array([0.0, 100.0, 300.0])))
+    u = far.step(ls.SE3(), ls.SE3(), 0.05)
+    assert not far.terminated and u[2] > 0                     # pushes along its axis
+    assert abs(far.distance - math.hypot(100.0, 300.0)) < 1e-9
+
+
+def test_dual_arm_step_returns_both_twists():
+    d = ls.DualArmPushing(tall_object=True, target=ls.SE3(ls.SO3(), np.array([0.0, 100.0, 300.0])))
+    sigma = np.array([0.3, 0.3, 0.3, 0.01, 0.01, 0.01])
+    obs = ls.from_tangent_gaussian(np.array([0, 0, 3.0, 0, 0, 0]), sigma)
+    r = d.step(ls.SE3(), obs, ls.SE3.exp(np.array([0, 0, 200.0, 0, np.pi, 0])), obs, 0.05)
+    assert np.all(np.isfinite(r["leader_velocity"])) and np.all(np.isfinite(r["follower_velocity"]))
+    assert not r["leader_gated"] and not r["follower_gated"]
+    with pytest.raises(ls.Error):
+        d.step(ls.SE3(), obs, ls.SE3(), obs, float("nan"))
