@@ -1,4 +1,5 @@
-// lieservo_replay — reproduce the paper's Tables 1 and 2 on the real TacTip validation set.
+// lieservo_replay — reproduce the paper's Tables 1 and 2 on a split of the real TacTip data
+// (default: val/).
 //
 //   lieservo_replay [--data DIR] [--models DIR] [--quick N] [--plots DIR] [--results-md FILE]
 //                   [--cache FILE] [--sigmas 10,1,0.1,0.01] [--seed S] [--no-cnn]
@@ -28,12 +29,14 @@
 namespace {
 
 void usage(std::ostream& os) {
-  os << "usage: lieservo_replay [--data DIR] [--models DIR] [--quick N] [--plots DIR] [--results-md FILE]\n"
+  os << "usage: lieservo_replay [--data DIR] [--split NAME] [--models DIR] [--quick N] [--plots DIR]\n"
+        "                       [--results-md FILE]\n"
         "                       [--cache FILE] [--sigmas 10,1,0.1,0.01] [--seed S] [--no-cnn]\n"
         "                       [--skip-missing] [--check] [--quiet]\n"
-        "  --data DIR        TacTip data (with val/); default " LIESERVO_DEFAULT_DATA_DIR "\n"
+        "  --data DIR        TacTip data (with one folder per split); default " LIESERVO_DEFAULT_DATA_DIR "\n"
+        "  --split NAME      the split to replay: DIR/NAME/targets.csv and processed_images/; default val\n"
         "  --models DIR      model_card.json, gdn.onnx, cnn.onnx; default " LIESERVO_DEFAULT_MODELS_DIR "\n"
-        "  --quick N         only the first N validation images\n"
+        "  --quick N         only the split's first N images\n"
         "  --plots DIR       write predicted-vs-actual scatter plots (PNG) here\n"
         "  --results-md FILE write the Markdown report (docs/results.md)\n"
         "  --cache FILE      cache the network outputs (keyed by model file hashes)\n"
@@ -67,6 +70,7 @@ int main(int argc, char** argv) {
     };
     try {
       if (a == "--data") opt.data_dir = value("--data");
+      else if (a == "--split") opt.split = value("--split");
       else if (a == "--models") opt.models_dir = value("--models");
       else if (a == "--quick") opt.quick = std::stoi(value("--quick"));
       else if (a == "--plots") opt.plot_dir = value("--plots");

@@ -1,5 +1,5 @@
-// examples/replay/replay.hpp — reproduce the paper's Tables 1 and 2 on the real TacTip
-// validation set (paper sec:nn_pose_shear_estimate_exp, sec:se3_bayes_filter_exp).
+// examples/replay/replay.hpp — reproduce the paper's Tables 1 and 2 on a split of the real
+// TacTip data, val/ by default (paper sec:nn_pose_shear_estimate_exp, sec:se3_bayes_filter_exp).
 //
 //   Table 1 (tab:nn_pose_shear_estimate_results): per-component MAE of the CNN-regression
 //     and GDN estimates of ξ = log(X_fs⁻¹)^∨ (mm, deg), and their losses.
@@ -24,8 +24,8 @@
 namespace lieservo::replay {
 
 struct ReplayOptions {
-  std::string data_dir;          ///< contains val/ (targets.csv, processed_images/, processed_image_params.json)
-  std::string split = "val";
+  std::string data_dir;          ///< contains <split>/ (targets.csv, processed_images/, processed_image_params.json)
+  std::string split = "val";     ///< the data set's sub-folder to replay (val, train, test, ...)
   std::string models_dir;        ///< contains model_card.json, gdn.onnx, cnn.onnx
   int quick = 0;                 ///< > 0: only the first N images
   std::vector<double> sigma_psi{10.0, 1.0, 0.1, 0.01};  ///< Table 2 columns (mm and deg)
@@ -75,6 +75,9 @@ struct ReplayResults {
          seconds_total = 0.0;
   double cpu_seconds_total = 0.0;  ///< process CPU time (all threads) spent in runReplay
   bool inference_cached = false;
+  /// What this split is to the network, from the model card (e.g. "used for early stopping"):
+  /// the report's caveat. Set by runReplay (splitRole).
+  std::string split_role;
   std::vector<std::string> plots;  ///< files written
   std::vector<std::string> notes;  ///< warnings (missing CNN, filter failures, ...)
 
@@ -83,6 +86,12 @@ struct ReplayResults {
   /// The whole docs/results.md (`command` is printed as the command that produced it).
   std::string markdown(const ReplayOptions& options, const std::string& command) const;
 };
+
+/// What `split` is to the network described by the model card at `card_path`, as a sentence
+/// for the report: the split it was trained on, one used for model selection (the card's
+/// training.early_stopping names it), one the card lists but the network did not use, or one
+/// the card does not mention. Never says "validation" unless the split is called so.
+std::string splitRole(const std::string& card_path, const std::string& split);
 
 /// Throws std::runtime_error when the data or the GDN model is missing or malformed
 /// (message names the path). The CNN is optional (skipped with a note when absent).

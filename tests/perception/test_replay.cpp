@@ -23,6 +23,17 @@ using namespace lieservo::replay;
 
 namespace {
 
+/// A models dir laid out like examples/gdn/models, holding the tiny random test models.
+std::string tinyModelsDir(const char* name) {
+  const std::string tiny = std::string(LIESERVO_SOURCE_DIR) + "/tests/perception/data";
+  const std::string models = perception_test::makeTempDir(name);
+  namespace fs = std::filesystem;
+  fs::copy_file(tiny + "/tiny_model_card.json", models + "/model_card.json");
+  fs::copy_file(tiny + "/tiny_gdn.onnx", models + "/tiny_gdn.onnx");
+  fs::copy_file(tiny + "/tiny_cnn.onnx", models + "/tiny_cnn.onnx");
+  return models;
+}
+
 /// Marker pixels in each of a scatter plot's six panels: saturated colours (max − min channel
 /// > 60) strictly inside the panel's frame. −1 when the image cannot be read.
 std::array<int, 6> markerPixels(const std::string& png) {
@@ -180,13 +191,7 @@ TEST_CASE("replay: end to end on real images with the tiny test models", "[perce
     WARN("TacTip data not found under " << data << ": skipping");
     return;
   }
-  // A models dir laid out like examples/gdn/models, holding the tiny random models.
-  const std::string tiny = std::string(LIESERVO_SOURCE_DIR) + "/tests/perception/data";
-  const std::string models = perception_test::makeTempDir("replay_models");
-  namespace fs = std::filesystem;
-  fs::copy_file(tiny + "/tiny_model_card.json", models + "/model_card.json");
-  fs::copy_file(tiny + "/tiny_gdn.onnx", models + "/tiny_gdn.onnx");
-  fs::copy_file(tiny + "/tiny_cnn.onnx", models + "/tiny_cnn.onnx");
+  const std::string models = tinyModelsDir("replay_models");
   ReplayOptions o;
   o.data_dir = data;
   o.models_dir = models;
@@ -215,7 +220,12 @@ TEST_CASE("replay: end to end on real images with the tiny test models", "[perce
       CHECK(n[static_cast<std::size_t>(c)] >= 100);
     }
   }
+  // The tiny card lists no data: the report says so and does not call the split "validation".
+  CHECK_THAT(r.split_role, Catch::Matchers::Contains("`val` split") &&
+                               Catch::Matchers::Contains("not listed in the model card"));
   const std::string md = r.markdown(o, "lieservo_replay --quick 40");
+  CHECK(md.find("validation") == std::string::npos);
+  CHECK(md.find(r.split_role) != std::string::npos);
   CHECK(md.find("Table 1") != std::string::npos);
   CHECK(md.find("Table 2") != std::string::npos);
   CHECK(md.find("lieservo_replay --quick 40") != std::string::npos);
@@ -258,8 +268,50 @@ TEST_CASE("replay: end to end on real images with the tiny test models", "[perce
   CHECK(md.find("calibration") == std::string::npos);
 
   // Missing model: clear error.
-  fs::remove(models + "/tiny_gdn.onnx");
+  std::filesystem::remove(models + "/tiny_gdn.onnx");
   o.cache_file.clear();
   CHECK_THROWS_WITH(runReplay(o), Catch::Contains("tiny_gdn.onnx"));
   perception_test::removeTree(models);
+}
+
+TEST_CASE("replay: the report's caveat comes from the model card and the split", "[perception][replay]") {
+  const std::string dir = perception_test::makeTempDir("replay_card");
+  const std::string card = dir + "/model_card.json";
+  std::ofstream(card) << R"J({"data": {"train": 6000, "val": 2000, "test": "not used (held out)"},
+    "models": {"gdn": {"training": {"early_stopping": "patience 25 on val loss"}}}})J";
+  CHECK_THAT(splitRole(card, "val"), Catch::Matchers::Contains("`val` split was used for model selection") &&
+                                         Catch::Matchers::Contains("optimistic"));
+  CHECK_THAT(splitRole(card, "train"), Catch::Matchers::Contains("trained on"));
+  CHECK_THAT(splitRole(card, "test"), Catch::Matchers::Contains("not used (held out)"));
+  CHECK_THAT(splitRole(card, "session2"), Catch::Matchers::Contains("not listed"));
+  for (const char* split : {"train", "test", "session2"})
+    CHECK(splitRole(card, split).find("validation") == std::string::npos);
+  CHECK_THAT(splitRole(dir + "/missing.json", "val"), Catch::Matchers::Contains("cannot be read"));
+  // The shipped card: val is the early-stopping split.
+  CHECK_THAT(splitRole(std::string(LIESERVO_SOURCE_DIR) + "/examples/gdn/models/model_card.json", "val"),
+             Catch::Matchers::Contains("model selection"));
+}
+
+TEST_CASE("replay: --split replays another split of the data", "[perception][replay][data]") {
+  const std::string data = LIESERVO_DATA_DIR;
+  if (!perception_test::exists(data + "/train/targets.csv")) {
+    WARN("TacTip data not found under " << data << ": skipping");
+    return;
+  }
+  const std::string models = tinyModelsDir("replay_split");
+  ReplayOptions o;
+  o.data_dir = data;
+  o.split = "train";
+  o.models_dir = models;
+  o.quick = 20;
+  o.verbose = false;
+  o.run_cnn = false;
+  const ReplayResults r = runReplay(o);
+  CHECK(r.n == 20);
+  const std::string md = r.markdown(o, "lieservo_replay --split train --quick 20");
+  CHECK(md.find("/train`") != std::string::npos);
+  CHECK(md.find("trained on") != std::string::npos);
+  CHECK(md.find("validation") == std::string::npos);
+  o.split = "no_such_split";
+  CHECK_THROWS_WITH(runReplay(o), Catch::Matchers::Contains("no_such_split/targets.csv"));
 }
