@@ -77,7 +77,6 @@ py::array_t<double> matrix2d(const M& m) {
 /// Rows of an (N, D) float64 array, C-contiguous (NumPy converts other layouts on the way in).
 using Rows = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
-template <class G>
 void requireShape(const Rows& a, std::initializer_list<py::ssize_t> tail, const char* what) {
   const auto nd = static_cast<std::size_t>(a.ndim());
   bool ok = nd == tail.size() + 1;
@@ -136,72 +135,51 @@ py::class_<G> bindGroup(py::module_& m, const char* name, const char* doc) {
         return s.str();
       });
   c.attr("dof") = D;
-  // Batches: one call for N elements, where a Python loop would dominate.
+  // Batches: one call for N elements, where a Python loop would dominate. The C-contiguous
+  // arrays are read and written in place through row-major maps of each element.
+  using RowMajor = Eigen::Matrix<double, N, N, (N > 1 ? Eigen::RowMajor : Eigen::ColMajor)>;
+  using In = Eigen::Map<const RowMajor>;
+  using Out = Eigen::Map<RowMajor>;
+  // The checked element of A[k]; throws StatusError naming `what`.
+  auto element = [](const Rows& A, py::ssize_t k, const char* what) {
+    G X;
+    const Status s = G::fromMatrix(Matrix(In(A.data() + k * N * N)), X);
+    if (s != Status::ok) throw StatusError{s, what};
+    return X;
+  };
   c.def_static(
       "exp_batch",
       [](const Rows& xi) {
-        requireShape<G>(xi, {D}, "exp_batch");
+        requireShape(xi, {D}, "exp_batch");
         const py::ssize_t n = xi.shape(0);
         py::array_t<double> out({n, py::ssize_t(N), py::ssize_t(N)});
-        auto in = xi.unchecked<2>();
-        auto o = out.mutable_unchecked<3>();
-        for (py::ssize_t k = 0; k < n; ++k) {
-          Tangent t;
-          for (int j = 0; j < D; ++j) t(j) = in(k, j);
-          const Matrix M = G::exp(t).matrix();
-          for (int r = 0; r < N; ++r)
-            for (int q = 0; q < N; ++q) o(k, r, q) = M(r, q);
-        }
+        for (py::ssize_t k = 0; k < n; ++k)
+          Out(out.mutable_data() + k * N * N) = G::exp(Eigen::Map<const Tangent>(xi.data() + k * D)).matrix();
         return out;
       },
       py::arg("xi"), "exp of each row of an (N, dof) array: an (N, n, n) array of matrices.");
   c.def_static(
       "log_batch",
-      [](const Rows& Ms) {
-        requireShape<G>(Ms, {N, N}, "log_batch");
+      [element](const Rows& Ms) {
+        requireShape(Ms, {N, N}, "log_batch");
         const py::ssize_t n = Ms.shape(0);
         py::array_t<double> out({n, py::ssize_t(D)});
-        auto in = Ms.unchecked<3>();
-        auto o = out.mutable_unchecked<2>();
-        for (py::ssize_t k = 0; k < n; ++k) {
-          Matrix M;
-          for (int r = 0; r < N; ++r)
-            for (int q = 0; q < N; ++q) M(r, q) = in(k, r, q);
-          G X;
-          const Status s = G::fromMatrix(M, X);
-          if (s != Status::ok) throw StatusError{s, "log_batch"};
-          const Tangent t = X.log();
-          for (int j = 0; j < D; ++j) o(k, j) = t(j);
-        }
+        for (py::ssize_t k = 0; k < n; ++k)
+          Eigen::Map<Tangent>(out.mutable_data() + k * D) = element(Ms, k, "log_batch").log();
         return out;
       },
       py::arg("M"), "log of each (checked) matrix of an (N, n, n) array: an (N, dof) array.");
   c.def_static(
       "compose_batch",
-      [](const Rows& A, const Rows& B) {
-        requireShape<G>(A, {N, N}, "compose_batch");
-        requireShape<G>(B, {N, N}, "compose_batch");
+      [element](const Rows& A, const Rows& B) {
+        requireShape(A, {N, N}, "compose_batch");
+        requireShape(B, {N, N}, "compose_batch");
         if (A.shape(0) != B.shape(0)) throw py::value_error("compose_batch: A and B differ in length");
         const py::ssize_t n = A.shape(0);
         py::array_t<double> out({n, py::ssize_t(N), py::ssize_t(N)});
-        auto a = A.unchecked<3>();
-        auto b = B.unchecked<3>();
-        auto o = out.mutable_unchecked<3>();
-        for (py::ssize_t k = 0; k < n; ++k) {
-          Matrix Ma, Mb;
-          for (int r = 0; r < N; ++r)
-            for (int q = 0; q < N; ++q) {
-              Ma(r, q) = a(k, r, q);
-              Mb(r, q) = b(k, r, q);
-            }
-          G Xa, Xb;
-          Status s = G::fromMatrix(Ma, Xa);
-          if (s == Status::ok) s = G::fromMatrix(Mb, Xb);
-          if (s != Status::ok) throw StatusError{s, "compose_batch"};
-          const Matrix M = (Xa * Xb).matrix();
-          for (int r = 0; r < N; ++r)
-            for (int q = 0; q < N; ++q) o(k, r, q) = M(r, q);
-        }
+        for (py::ssize_t k = 0; k < n; ++k)
+          Out(out.mutable_data() + k * N * N) =
+              (element(A, k, "compose_batch") * element(B, k, "compose_batch")).matrix();
         return out;
       },
       py::arg("A"), py::arg("B"), "A[k]·B[k] for (N, n, n) arrays of (checked) matrices.");
