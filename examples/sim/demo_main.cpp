@@ -55,8 +55,9 @@ void usage() {
       "  --calibration card|paper  the Gaussian model's error calibration: the project's model\n"
       "               card (default, falls back to the paper) or the paper's Table 1\n"
       "  --skin-friction MU     skin-object friction in the MuJoCo pushes (default 0.8)\n"
-      "  --follower-y-gain K    dual arm: the named variant 'follower + y' (Kp on the tangential\n"
-      "               y, 1/s; default 0 = the paper's Table 9 follower)\n");
+      "  --follower-y-gain K    the named variant 'follower + y' (not the paper's Table 9: Kp = K /s\n"
+      "               on the follower's tangential y), run on the round objects and reported beside\n"
+      "               the paper's follower (default 1; 0: not run)\n");
 }
 
 std::string pm(double m, double s) {
@@ -147,7 +148,7 @@ int main(int argc, char** argv) {
   std::string observations = "auto";
   std::string data_dir = LIESERVO_DEFAULT_DATA_DIR;
   int trials = 5;
-  double follower_y_gain = 0;
+  double follower_y_gain = 1;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> const char* {
@@ -300,8 +301,7 @@ int main(int argc, char** argv) {
     std::printf("[4/4] dual-arm pushing on MuJoCo (short on foam/MDF, tall and everyday on MDF, x %d trials) ... ",
                 trials);
     std::fflush(stdout);
-    if (follower_y_gain > 0) std::printf("(variant 'follower + y': Kp_y = %.2f /s) ", follower_y_gain);
-    const PushingResult dp = runDualArmPushing(opt, trials, follower_y_gain);
+    const PushingResult dp = runDualArmPushing(opt, trials);
     std::printf("%s (%.0f s simulated, %.1f s)\n", dp.success ? "ok" : "FAILED", dp.sim_time, seconds(t0));
     for (const auto& c : dp.cases) {
       const PaperValue pv = paperDualArm(c.setup.object.name, c.setup.surface.name, c.setup.tall);
@@ -310,6 +310,23 @@ int main(int argc, char** argv) {
     failures.insert(failures.end(), dp.failures.begin(), dp.failures.end());
     ok = ok && dp.success;
     sim_seconds += dp.sim_time;
+    if (follower_y_gain > 0) {
+      // The named variant, beside the paper's follower: judged by the same criteria, reported
+      // in rows of its own; the demo's exit status stays the paper's controllers'.
+      t0 = Clock::now();
+      std::printf("      variant 'follower + y' (Kp_y = %.2f /s on the follower, not the paper's Table 9): "
+                  "round objects ... ", follower_y_gain);
+      std::fflush(stdout);
+      const PushingResult vp = runDualArmPushing(opt, trials, follower_y_gain, true);
+      std::printf("%s (%.0f s simulated, %.1f s)\n", vp.success ? "ok" : "FAILED", vp.sim_time, seconds(t0));
+      for (const auto& c : vp.cases) {
+        const PaperValue pv = paperDualArm(c.setup.object.name, c.setup.surface.name, c.setup.tall);
+        rows.push_back({"dual, follower+y", caseLabel(c) + " (named variant)", pm(c.mean_error, c.sd_error),
+                        pm(pv.mean, pv.sd), c.success});
+      }
+      for (const std::string& f : vp.failures) failures.push_back("variant 'follower + y': " + f);
+      sim_seconds += vp.sim_time;
+    }
     t0 = Clock::now();
     std::printf("      tall objects pushed by one arm on MDF (reported: how many topple) ... ");
     std::fflush(stdout);

@@ -65,6 +65,38 @@ TEST_CASE("mujoco: a box slides when the push exceeds mu m g, and not before", "
   }
 }
 
+TEST_CASE("mujoco: a sliding tip drags a box by friction when mu_c N exceeds mu_s (m g + N), and not when below",
+          "[sim][mujoco]") {
+  // A tip pressed 3 mm into the top of a 0.3 kg box (N ≈ k_gel · 3 mm = 3 N) moves sideways
+  // at 10 mm/s for 2 s. The box slides on the support once the tangential force exceeds
+  // μ_s (m g + N) = 0.1 · 5.9 N = 0.59 N; the tip can give up to μ_c N: 2.4 N at μ_c = 0.8
+  // (it sticks and drags the box along), 0.3 N at μ_c = 0.1 (it slides over the box, which
+  // stays). A tip whose motion the solver did not see (a teleported body) slides over the box
+  // with a small, velocity-dependent force whatever μ_c is.
+  auto run = [](double mu_c) {
+    SceneSpec s = oneBox(0.1, 100, 60, 0.3);
+    s.objects[0].friction = mu_c;
+    SensorSpec tip;
+    tip.name = "tip";
+    // z_s down into the top face, x_s along x, y_s = z_s × x_s = −y.
+    Mat3 R;
+    R << 1, 0, 0, 0, -1, 0, 0, 0, -1;
+    tip.initial_pose = makePose(R, Vec3(0, 0, 60 + 20 - 3));
+    s.sensors.push_back(tip);
+    World w(s);
+    REQUIRE(w.step(0.2) == Status::ok);  // the gel settles at its preload
+    CHECK(w.tipNormalForce(0) == Approx(3.0 + 0.01 * g).epsilon(0.15));
+    Vec6 u;
+    u << 0, -10, 0, 0, 0, 0;  // along −y_s = +y_w, mm/s
+    REQUIRE(w.setSensorTwist(0, u) == Status::ok);
+    REQUIRE(w.step(2.0) == Status::ok);
+    CHECK(w.sensorPose(0).translation().y() == Approx(20).margin(1e-6));
+    return w.objectPose(0).translation().y();
+  };
+  CHECK(run(0.8) > 16.0);  // dragged: at least 80 % of the tip's 20 mm
+  CHECK(std::abs(run(0.1)) < 0.5);
+}
+
 TEST_CASE("mujoco: a tall box topples when pushed above its tipping height, and not below", "[sim][mujoco]") {
   // Tall red square of the paper: side 75 mm, 120 mm tall, 0.324 kg; support friction high
   // enough that the box cannot slide under the push (F < μ m g).
@@ -282,9 +314,12 @@ TEST_CASE("mujoco: the sensor arm integrates the body twist within its limits", 
   MujocoSensorArm arm(w, 0);
   lieservo::SE3<double>::Tangent u;
   u << 10, 0, 0, 0, 0, 0.1;  // mm/s, rad/s: well inside the limits
-  for (int k = 0; k < 100; ++k) REQUIRE(arm.commandVelocity(u, 0.01) == Status::ok);
-  // The acceleration limit ramps the first step: 10 mm/s reached within 0.01 s at 1000 mm/s²,
-  // so after 1 s the pose is X0 exp(u · 1 s) up to the ramp (≤ 0.01 s of motion).
+  for (int k = 0; k < 100; ++k) {
+    REQUIRE(arm.commandVelocity(u, 0.01) == Status::ok);
+    REQUIRE(w.step(0.01) == Status::ok);  // the world moves the sensor by the twist
+  }
+  // The acceleration limit ramps the first command: 10 mm/s reached within 0.01 s at
+  // 1000 mm/s², so after 1 s the pose is X0 exp(u · 1 s) up to the ramp (≤ 0.01 s of motion).
   lieservo::SE3<double> X;
   REQUIRE(arm.readPose(X) == Status::ok);
   const lieservo::SE3<double> expected = tip.initial_pose * lieservo::SE3<double>::exp(u * 1.0);
@@ -293,6 +328,11 @@ TEST_CASE("mujoco: the sensor arm integrates the body twist within its limits", 
   u << 1000, 0, 0, 0, 0, 0;
   for (int k = 0; k < 100; ++k) REQUIRE(arm.commandVelocity(u, 0.01) == Status::ok);
   CHECK(arm.appliedTwist().head<3>().norm() == Approx(250));
+  // stop() brings the sensor to rest: a step no longer moves it.
+  arm.stop();
+  REQUIRE(arm.readPose(X) == Status::ok);
+  REQUIRE(w.step(0.01) == Status::ok);
+  CHECK((arm.pose().translation() - X.translation()).norm() < 1e-12);
   // Bad commands change nothing.
   REQUIRE(arm.readPose(X) == Status::ok);
   CHECK(arm.commandVelocity(u, 0.0) == Status::invalid_time_step);

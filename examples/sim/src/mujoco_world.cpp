@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <mutex>
 #include <set>
 #include <sstream>
 
@@ -15,9 +16,13 @@ namespace lieservo::sim::mujoco {
 namespace {
 
 constexpr double kMm = 1e-3;  // mm → m
+// The body that carries a sensor: heavy, so that contact forces of a few newtons change its
+// velocity by < 1 mm/s within a step before the arm sets it again (World::step).
+constexpr double kArmMass = 10;        // kg
+constexpr double kArmInertia = 0.05;   // kg m²
 constexpr double kGravity = 9.81;
 // The gel: the tip is a light body on three slide joints (the sensor frame's axes) with
-// spring stiffness k_gel, behind the arm's nominal tip (the mocap body). A push of F on the
+// spring stiffness k_gel, behind the arm's nominal tip (the sensor body). A push of F on the
 // tip deflects it by F/k_gel whatever the object's mass or inertia; the tip–object contact
 // itself is stiff (penetration ≈ 0.03 mm per N: kContactSolref, kContactSolimp). The tip's mass sets the gel's
 // natural frequency sqrt(k/m) (316 rad/s at 1 N/mm: ω dt = 0.8 at the 2.5 ms step, stable under
@@ -165,6 +170,15 @@ std::string fixtureGeoms(const FixtureSpec& f) {
   return g + boxGeom(f.name + "_bottom", hw, kRampFlat / 2, t, Vec3(0, f.size2 + kRampFlat / 2, -t), 0, extra);
 }
 
+// A body moved by an arm (a sensor, a carried fixture): heavy, on a free joint whose pose and
+// velocity World sets at every step. MuJoCo's friction acts on velocities, so it must see how
+// the body moves: a mocap body is teleported, its velocity is zero to the solver, and a tip
+// carried by one slides along a surface with next to no friction.
+std::string drivenJoint(const std::string& name) {
+  return "      <freejoint name=\"" + name + "_arm\"/>\n      <inertial pos=\"0 0 0\" mass=\"" + num(kArmMass) +
+         "\" diaginertia=\"" + num(kArmInertia) + " " + num(kArmInertia) + " " + num(kArmInertia) + "\"/>\n";
+}
+
 }  // namespace
 
 std::string sceneMjcf(const SceneSpec& spec) {
@@ -216,20 +230,21 @@ std::string sceneMjcf(const SceneSpec& spec) {
   for (const FixtureSpec& f : spec.fixtures) {
     const Vec3 p = f.pose.translation() * kMm;
     x << "    <body name=\"" << f.name << "\" pos=\"" << num(p.x()) << " " << num(p.y()) << " " << num(p.z())
-      << "\" quat=\"" << quatOf(f.pose.rotationMatrix()) << "\"" << (f.carried ? " mocap=\"true\"" : "") << ">\n"
-      << fixtureGeoms(f) << "    </body>\n";
+      << "\" quat=\"" << quatOf(f.pose.rotationMatrix()) << "\">\n";
+    if (f.carried) x << drivenJoint(f.name);  // moved by its leader arm (World::setFixturePose)
+    x << fixtureGeoms(f) << "    </body>\n";
   }
   for (const SensorSpec& s : spec.sensors) {
-    // The arm's nominal tip: a mocap body, moved by the arm, not by forces; its "probe" sphere
+    // The arm's nominal tip: a driven body (drivenJoint). Its "probe" sphere
     // touches nothing (contype/conaffinity 0, no pairs) and gives the tactile depth
     // (tipGeometry). The gel carries the tip body (see kTipMass); the tip touches the objects
     // through the explicit pairs below only, never the support.
     const double k = s.gel_stiffness / kMm;  // N/m
     const double b = 2 * s.gel_damping_ratio * std::sqrt(k * kTipMass);
-    x << "    <body name=\"" << s.name << "\" mocap=\"true\" pos=\""
-      << num(s.initial_pose.translation()[0] * kMm) << " " << num(s.initial_pose.translation()[1] * kMm) << " "
-      << num(s.initial_pose.translation()[2] * kMm) << "\" quat=\"" << quatOf(s.initial_pose.rotationMatrix())
-      << "\">\n      <geom name=\"" << s.name << "_probe\" type=\"sphere\" size=\"" << num(s.tip_radius * kMm)
+    x << "    <body name=\"" << s.name << "\" pos=\"" << num(s.initial_pose.translation()[0] * kMm) << " "
+      << num(s.initial_pose.translation()[1] * kMm) << " " << num(s.initial_pose.translation()[2] * kMm)
+      << "\" quat=\"" << quatOf(s.initial_pose.rotationMatrix()) << "\">\n"
+      << drivenJoint(s.name) << "      <geom name=\"" << s.name << "_probe\" type=\"sphere\" size=\"" << num(s.tip_radius * kMm)
       << "\" contype=\"0\" conaffinity=\"0\" rgba=\"0 0 0 0\"/>\n      <body name=\"" << s.name << "_tip\">\n";
     for (const char* axis : {"1 0 0", "0 1 0", "0 0 1"})
       x << "        <joint type=\"slide\" axis=\"" << axis << "\" stiffness=\"" << num(k) << "\" damping=\"" << num(b)
@@ -288,7 +303,11 @@ World::World(const SceneSpec& spec) : spec_(spec) {
   if (mj_makeEmptyFileVFS(&vfs, file, int(mjcf.size())) != 0) throw SceneError("MuJoCo: cannot hold the scene");
   std::memcpy(vfs.filedata[mj_findFileVFS(&vfs, file)], mjcf.data(), mjcf.size());
   char error[1024] = "";
-  m_ = mj_loadXML(file, &vfs, error, sizeof error);
+  {
+    static std::mutex parser;  // MuJoCo's XML parser is not documented as thread-safe
+    const std::lock_guard<std::mutex> lock(parser);
+    m_ = mj_loadXML(file, &vfs, error, sizeof error);
+  }
   mj_deleteVFS(&vfs);
   if (!m_) throw SceneError(std::string("MuJoCo could not load the scene: ") + error);
   d_ = mj_makeData(m_);
@@ -306,12 +325,14 @@ World::World(const SceneSpec& spec) : spec_(spec) {
   for (const FixtureSpec& f : spec_.fixtures) {
     const int b = mj_name2id(m_, mjOBJ_BODY, f.name.c_str());
     fixture_body_.push_back(b);
-    fixture_mocap_.push_back(m_->body_mocapid[b]);
+    fixture_driven_.push_back(f.carried ? int(driven_.size()) : -1);
+    if (f.carried) driven_.push_back(drivenBody(b, f.pose));
     fixture_geoms_.emplace_back(m_->body_geomadr[b], m_->body_geomadr[b] + m_->body_geomnum[b]);
   }
   for (const SensorSpec& s : spec_.sensors) {
     const int b = mj_name2id(m_, mjOBJ_BODY, s.name.c_str());
-    sensor_mocap_.push_back(m_->body_mocapid[b]);
+    sensor_driven_.push_back(int(driven_.size()));
+    driven_.push_back(drivenBody(b, s.initial_pose));
     sensor_geom_.push_back(mj_name2id(m_, mjOBJ_GEOM, s.name.c_str()));
     sensor_probe_.push_back(mj_name2id(m_, mjOBJ_GEOM, (s.name + "_probe").c_str()));
   }
@@ -325,13 +346,62 @@ World::~World() {
 
 void World::reset() noexcept {
   mj_resetData(m_, d_);
+  for (Driven& b : driven_) {
+    b.pose = b.initial_pose;
+    b.twist.setZero();
+  }
   mj_forward(m_, d_);
+}
+
+World::Driven World::drivenBody(int body, const SE3d& X0) const {
+  Driven b;
+  b.qpos = m_->jnt_qposadr[m_->body_jntadr[body]];
+  b.dof = m_->jnt_dofadr[m_->body_jntadr[body]];
+  b.body = body;
+  b.initial_pose = b.pose = X0;
+  return b;
+}
+
+void World::writeState(const Driven& b) noexcept {
+  const SE3d& X = b.pose;
+  const Vec6& u = b.twist;
+  double* q = d_->qpos + b.qpos;
+  const Vec3 p = X.translation() * kMm;
+  const Eigen::Quaterniond quat(X.rotationMatrix());
+  std::copy(p.data(), p.data() + 3, q);
+  q[3] = quat.w(), q[4] = quat.x(), q[5] = quat.y(), q[6] = quat.z();
+  // A free joint's velocity: the origin's linear velocity in the world frame, the angular
+  // velocity in the body frame; u is the body twist [v; ω] (mm/s, rad/s).
+  double* v = d_->qvel + b.dof;
+  const Vec3 lin = X.rotationMatrix() * u.head<3>() * kMm;
+  std::copy(lin.data(), lin.data() + 3, v);
+  std::copy(u.data() + 3, u.data() + 6, v + 3);
 }
 
 Status World::step(double dt) noexcept {
   if (!(dt > 0) || !std::isfinite(dt)) return Status::invalid_time_step;
   const int n = std::max(1, int(std::lround(dt / m_->opt.timestep)));
-  for (int k = 0; k < n; ++k) mj_step(m_, d_);
+  for (int k = 0; k < n; ++k) {
+    // The arms are position-stiff: each driven body starts the step where its arm holds it,
+    // moving at its twist, with gravity on it cancelled. After the step a sensor is exactly
+    // where its twist takes it, X_ws · exp(u^ h); a carried fixture stays where it was put
+    // (setFixturePose) and rests until moved again.
+    for (const Driven& d : driven_) {
+      mjtNum* xf = d_->xfrc_applied + 6 * d.body;
+      std::fill(xf, xf + 6, 0.0);
+      xf[2] = kArmMass * kGravity;
+      writeState(d);
+    }
+    mj_step(m_, d_);
+    for (int s = 0; s < sensorCount(); ++s) {
+      Driven& d = driven_[size_t(sensor_driven_[size_t(s)])];
+      d.pose = d.pose * SE3d::exp(d.twist * m_->opt.timestep);
+      d.pose.normalize();
+    }
+    for (int j = 0; j < fixtureCount(); ++j)
+      if (fixture_driven_[size_t(j)] >= 0) driven_[size_t(fixture_driven_[size_t(j)])].twist.setZero();
+    for (const Driven& d : driven_) writeState(d);
+  }
   for (int i = 0; i < m_->nq; ++i)
     if (!std::isfinite(d_->qpos[i])) return Status::numerical_failure;
   mj_kinematics(m_, d_);  // geom poses at the new state, for tipGeometry
@@ -364,43 +434,39 @@ void World::applyObjectForce(int i, const Vec3& force_w, const Vec3& point_w) no
 void World::clearForces() noexcept { std::fill(d_->xfrc_applied, d_->xfrc_applied + 6 * m_->nbody, 0.0); }
 
 SE3d World::fixturePose(int j) const noexcept {
-  const int b = fixture_body_[size_t(j)];
-  Mat3 R;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) R(r, c) = d_->xmat[9 * b + 3 * r + c];
-  const Eigen::Quaterniond q(R);  // re-orthonormalised
-  return makePose(q.normalized().toRotationMatrix(), Vec3(d_->xpos[3 * b], d_->xpos[3 * b + 1], d_->xpos[3 * b + 2]) / kMm);
+  if (fixture_driven_[size_t(j)] >= 0) return driven_[size_t(fixture_driven_[size_t(j)])].pose;
+  return spec_.fixtures[size_t(j)].pose;
 }
 
 Status World::setFixturePose(int j, const SE3d& X_wo) noexcept {
-  if (j < 0 || j >= fixtureCount() || fixture_mocap_[size_t(j)] < 0) return Status::invalid_argument;
+  if (j < 0 || j >= fixtureCount() || fixture_driven_[size_t(j)] < 0) return Status::invalid_argument;
   const Status v = validateElement(X_wo);
   if (v != Status::ok) return v;
-  setMocap(fixture_mocap_[size_t(j)], X_wo);
+  // There now, and moving during the next step with the body twist that took it there.
+  Driven& d = driven_[size_t(fixture_driven_[size_t(j)])];
+  d.twist = (d.pose.inverse() * X_wo).log() / m_->opt.timestep;
+  d.pose = X_wo;
+  writeState(d);
+  mj_kinematics(m_, d_);
   return Status::ok;
 }
 
-void World::setMocap(int id, const SE3d& X) noexcept {
-  const Vec3 p = X.translation() * kMm;
-  const Eigen::Quaterniond quat(X.rotationMatrix());
-  std::copy(p.data(), p.data() + 3, d_->mocap_pos + 3 * id);
-  const double q[4] = {quat.w(), quat.x(), quat.y(), quat.z()};
-  std::copy(q, q + 4, d_->mocap_quat + 4 * id);
-  mj_kinematics(m_, d_);
-}
-
-SE3d World::sensorPose(int s) const noexcept {
-  const int id = sensor_mocap_[size_t(s)];
-  const double* p = d_->mocap_pos + 3 * id;
-  const double* q = d_->mocap_quat + 4 * id;
-  const Eigen::Quaterniond quat(q[0], q[1], q[2], q[3]);
-  return makePose(quat.normalized().toRotationMatrix(), Vec3(p[0], p[1], p[2]) / kMm);
-}
+SE3d World::sensorPose(int s) const noexcept { return driven_[size_t(sensor_driven_[size_t(s)])].pose; }
 
 Status World::setSensorPose(int s, const SE3d& X_ws) noexcept {
   const Status v = validateElement(X_ws);
   if (v != Status::ok) return v;
-  setMocap(sensor_mocap_[size_t(s)], X_ws);
+  Driven& d = driven_[size_t(sensor_driven_[size_t(s)])];
+  d.pose = X_ws;
+  d.twist.setZero();
+  writeState(d);
+  mj_kinematics(m_, d_);
+  return Status::ok;
+}
+
+Status World::setSensorTwist(int s, const Vec6& twist_s) noexcept {
+  if (!twist_s.allFinite()) return Status::non_finite_input;
+  driven_[size_t(sensor_driven_[size_t(s)])].twist = twist_s;
   return Status::ok;
 }
 

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <exception>
+#include <mutex>
 #include <optional>
 
 #include <nanoflann.hpp>
@@ -34,6 +35,7 @@ struct RealGdnObservations::Impl {
   std::vector<Cached> cache;
   std::size_t evaluated = 0;
   std::string source, last_error;
+  std::mutex mutex;  // the cache and the network, for trials run on several threads
 };
 
 RealGdnObservations::RealGdnObservations(const RealObservationOptions& o) : impl_(std::make_unique<Impl>()) {
@@ -114,6 +116,7 @@ std::size_t RealGdnObservations::nearest(const Vec6& euler) const noexcept {
 Status RealGdnObservations::prediction(std::size_t i, Vec6& mu, Vec6& sigma) noexcept {
   Impl& I = *impl_;
   if (i >= I.cache.size()) return Status::invalid_argument;
+  const std::lock_guard<std::mutex> lock(I.mutex);
   Impl::Cached& c = I.cache[i];
   if (!c.done) {
     try {

@@ -46,15 +46,20 @@ Status MujocoSensorArm::commandVelocity(const SE3d::Tangent& twist_s, double dt)
   if (!(dt > 0) || !std::isfinite(dt)) return Status::invalid_time_step;
   if (!twist_s.allFinite()) return Status::non_finite_input;
   const SE3d::Tangent applied = limitTwist(twist_s, applied_, limits_, dt);
-  SE3d X = world_->sensorPose(sensor_) * SE3d::exp(applied * dt);  // body twist: right
-  X.normalize();
-  const Status s = world_->setSensorPose(sensor_, X);
+  // The world moves the sensor by X_ws ← X_ws · exp(u^ h) at each of its steps (body twist:
+  // right multiplication) while this twist holds.
+  const Status s = world_->setSensorTwist(sensor_, applied);
   if (s == Status::ok) applied_ = applied;
   return s;
 }
 
+void MujocoSensorArm::stop() {
+  applied_.setZero();
+  world_->setSensorTwist(sensor_, applied_);
+}
+
 Status MujocoSensorArm::moveTo(const SE3d& X_ws) {
-  const Status s = world_->setSensorPose(sensor_, X_ws);
+  const Status s = world_->setSensorPose(sensor_, X_ws);  // at rest there
   if (s == Status::ok) applied_.setZero();
   return s;
 }

@@ -13,11 +13,14 @@
 // (ContactModel: feature frame, depth, stick/slip shear) is updated from the engine's tip
 // geometry.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <limits>
 #include <memory>
 #include <random>
+#include <thread>
 
 #include <lieservo/control/dual_arm.hpp>
 #include <lieservo/control/presets.hpp>
@@ -35,6 +38,7 @@ using detail::Gaussian;
 using mujoco::World;
 
 constexpr double kGiveUpAfter = 1.0;  // s out of contact: the push has failed, stop the trial
+constexpr double kPassedBy = 20;      // mm beyond the closest approach, inside ρ*: the target was passed
 
 Vec3 objectPlanar(const SE3d& X) {
   const Mat3 R = X.rotationMatrix();
@@ -177,6 +181,12 @@ PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& opt, std::u
       tr.follower_depth.push_back(follower ? follower->state.depth : 0.0);
     }
     tr.object_path.push_back(objectPlanar(world.objectPose(0)));
+    const double r = (leader.pose().translation().head<2>() - setup.target).norm();
+    tr.closest_approach = std::min(tr.closest_approach, r);
+    if (tr.closest_approach < lieservo::paper::kAlignmentCutoff && r > tr.closest_approach + kPassedBy) {
+      tr.passed_target = true;
+      break;
+    }
     tr.max_tilt = std::max(tr.max_tilt, toDeg(world.objectTilt(0)));
     if (tr.max_tilt > Bounds::topple_tilt) {
       tr.toppled = true;
@@ -200,7 +210,27 @@ PushingCase runPushingCase(const PushingSetup& setup, const TaskOptions& opt, in
   PushingCase pc;
   pc.setup = setup;
   pc.judged = judged;
-  for (int i = 0; i < trials; ++i) pc.trials.push_back(runPushTrial(setup, opt, opt.seed * 1000 + std::uint64_t(i) + 1));
+  // The trials are independent (each its own world, filters and seed), so they run on all
+  // cores at once; the results do not depend on how many.
+  pc.trials.resize(std::size_t(trials));
+  std::vector<std::exception_ptr> errors(static_cast<std::size_t>(trials));
+  std::atomic<int> next{0};
+  auto worker = [&] {
+    for (int i = next++; i < trials; i = next++) {
+      try {
+        pc.trials[std::size_t(i)] = runPushTrial(setup, opt, opt.seed * 1000 + std::uint64_t(i) + 1);
+      } catch (...) {
+        errors[std::size_t(i)] = std::current_exception();
+      }
+    }
+  };
+  const int threads = std::min(trials, std::max(1, int(std::thread::hardware_concurrency())));
+  std::vector<std::thread> pool;
+  for (int k = 1; k < threads; ++k) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
   // Statistics over the trials that reached the target.
   double m = 0;
   for (const auto& t : pc.trials) {
@@ -226,6 +256,10 @@ PushingCase runPushingCase(const PushingSetup& setup, const TaskOptions& opt, in
     auto fail = [&](const std::string& why) { pc.failures.push_back(tag + " trial " + std::to_string(i + 1) + ": " + why); };
     if (t.toppled) {
       std::snprintf(buf, sizeof buf, "toppled (tilt %.0f deg > %.0f deg)", t.max_tilt, Bounds::topple_tilt);
+      fail(buf);
+    } else if (t.passed_target) {
+      std::snprintf(buf, sizeof buf, "passed the target at %.0f mm without reaching it (termination within %.0f mm)",
+                    t.closest_approach, opt.contact.tip_radius);
       fail(buf);
     } else if (!t.terminated) {
       std::snprintf(buf, sizeof buf, "target not reached in %.0f s (final distance %.0f mm)", setup.timeout,
@@ -357,11 +391,19 @@ PushingResult runSingleArmPushing(const TaskOptions& opt, int trials) {
                    false, true, opt, trials);
 }
 
-PushingResult runDualArmPushing(const TaskOptions& opt, int trials, double follower_y_gain) {
-  return runGroups({{SupportSpec::foam(), shortObjects(), false, "pushing_dual_short_foam"},
-                    {SupportSpec::mdf(), shortObjects(), false, "pushing_dual_short_MDF"},
-                    {SupportSpec::mdf(), tallAndEveryday(), true, "pushing_dual_tall_MDF"}},
-                   true, true, opt, trials, follower_y_gain);
+PushingResult runDualArmPushing(const TaskOptions& opt, int trials, double follower_y_gain, bool round_only) {
+  std::vector<Group> groups = {{SupportSpec::foam(), shortObjects(), false, "pushing_dual_short_foam"},
+                               {SupportSpec::mdf(), shortObjects(), false, "pushing_dual_short_MDF"},
+                               {SupportSpec::mdf(), tallAndEveryday(), true, "pushing_dual_tall_MDF"}};
+  const std::string suffix = follower_y_gain > 0 ? "_follower_y" : "";
+  for (Group& g : groups) {
+    if (round_only)
+      g.objects.erase(std::remove_if(g.objects.begin(), g.objects.end(),
+                                     [](const ObjectSpec& o) { return o.shape != "circle"; }),
+                      g.objects.end());
+    g.stem += suffix;
+  }
+  return runGroups(groups, true, true, opt, trials, follower_y_gain);
 }
 
 PushingResult runTallSingleArmPushing(const TaskOptions& opt, int trials) {

@@ -10,8 +10,9 @@
 //
 // Units at this interface are the paper's: mm, kg, s, radians; MuJoCo works in metres inside.
 //
-// Sensors. Each sensor is a mocap body: the arm holding it is position-stiff, so the sensor
-// pose is what the commanded twist makes it (sensor_arm.hpp). Its tip is a sphere of radius
+// Sensors. The arm holding each sensor is position-stiff: the sensor's pose is what the
+// commanded twist makes it (sensor_arm.hpp), and MuJoCo is told its velocity too, so the
+// friction on a sliding tip acts. Its tip is a sphere of radius
 // 20 mm (the 40 mm TacTip's hemisphere; the back half never touches in these tasks). The
 // compliant gel is a spring between the arm's nominal tip and the touching tip: the tip is a
 // light body on three slide joints with stiffness k_gel (SensorSpec::gel_stiffness), so a
@@ -83,7 +84,7 @@ struct FixtureSpec {
   double width = 80;            ///< mm: the ramp's width (others: unused)
   int segments = 100;           ///< the ramp's chords (others: unused)
   SE3d pose = SE3d::identity(); ///< X_wo (mm)
-  bool carried = false;         ///< moved by a leader arm (a mocap body), else fixed
+  bool carried = false;         ///< moved by a leader arm (World::setFixturePose), else fixed
   double friction = 0.8;        ///< μ_c, skin–surface sliding friction at the sensor
 };
 
@@ -153,13 +154,19 @@ class World {
 
   /// X_wo of fixture j (mm).
   SE3d fixturePose(int j) const noexcept;
-  /// Moves a carried fixture (the leader's plate) to X_wo; refuses a fixed fixture
-  /// (invalid_argument) and a non-finite or non-orthonormal pose.
+  /// Moves a carried fixture (the leader's plate) to X_wo: it is there at once, and MuJoCo sees
+  /// it moving, during the next step, with the twist that took it there from its last pose.
+  /// Refuses a fixed fixture (invalid_argument) and a non-finite or non-orthonormal pose.
   Status setFixturePose(int j, const SE3d& X_wo) noexcept;
 
   SE3d sensorPose(int s) const noexcept;
-  /// Moves sensor s (a mocap body) to X_ws; refuses a non-finite or non-orthonormal pose.
+  /// Puts sensor s at X_ws, at rest (a teleport: a finished move); refuses a non-finite or
+  /// non-orthonormal pose.
   Status setSensorPose(int s, const SE3d& X_ws) noexcept;
+  /// The body twist [v (mm/s); ω (rad/s)] sensor s moves with from now on: each MuJoCo step
+  /// moves it by X_ws ← X_ws · exp(u^ h), with MuJoCo seeing that velocity (so friction acts
+  /// on a tip that slides); refuses a non-finite twist.
+  Status setSensorTwist(int s, const Vec6& twist_s) noexcept;
 
   /// Nearest object or fixture to sensor s's tip centre within `range` mm of its surface.
   TipGeometry tipGeometry(int s, double range = 30) const noexcept;
@@ -174,16 +181,25 @@ class World {
   const SceneSpec& spec() const noexcept { return spec_; }
 
  private:
-  void setMocap(int id, const SE3d& X) noexcept;
+  // A body an arm moves (a sensor, a carried fixture): a free joint whose pose and velocity
+  // are set at every step, so that MuJoCo's friction sees its motion.
+  struct Driven {
+    int body = -1, qpos = -1, dof = -1;
+    SE3d initial_pose = SE3d::identity(), pose = SE3d::identity();
+    Vec6 twist = Vec6::Zero();  // body twist [v (mm/s); ω (rad/s)]
+  };
+  Driven drivenBody(int body, const SE3d& X0) const;
+  void writeState(const Driven& b) noexcept;  // pose, twist → the free joint's qpos, qvel
 
   SceneSpec spec_;
   mjModel_* m_ = nullptr;
   mjData_* d_ = nullptr;
   std::vector<int> object_body_, object_qpos_, object_dof_;
-  std::vector<std::pair<int, int>> object_geoms_;  // [first, last) geom ids
-  std::vector<int> fixture_body_, fixture_mocap_;
+  std::vector<std::pair<int, int>> object_geoms_;   // [first, last) geom ids
+  std::vector<int> fixture_body_, fixture_driven_;  // fixture_driven_: index in driven_, or −1 (fixed)
   std::vector<std::pair<int, int>> fixture_geoms_;  // [first, last) geom ids
-  std::vector<int> sensor_mocap_, sensor_geom_, sensor_probe_;
+  std::vector<int> sensor_driven_, sensor_geom_, sensor_probe_;
+  std::vector<Driven> driven_;
 };
 
 /// The MJCF text of a scene (metres inside). Validates first.

@@ -2,10 +2,11 @@
 //
 // The arm holding a TacTip is velocity-servoed and position-stiff: RobotInterface's commanded
 // twist u = [v (mm/s); ω (rad/s)] is a BODY twist in the current sensor frame {s} (the
-// controllers' output, sec:servoing_controller), so each call moves the sensor's mocap body by
-// right multiplication, X_ws ← X_ws · exp(u Δt). The twist applied is the commanded one capped
-// at speed limits (norms, direction kept) and reached no faster than the acceleration limits
-// allow: the paper's arm under its ~25 Hz tactile loop. The world is stepped by the caller.
+// controllers' output, sec:servoing_controller): each call sets the twist the sensor moves
+// with, and each World::step moves it by right multiplication, X_ws ← X_ws · exp(u h), with
+// MuJoCo seeing that velocity. The twist applied is the commanded one capped at speed limits
+// (norms, direction kept) and reached no faster than the acceleration limits allow: the
+// paper's arm under its ~25 Hz tactile loop. The world is stepped by the caller.
 #pragma once
 
 #include "common.hpp"
@@ -34,12 +35,13 @@ class MujocoSensorArm final : public lieservo::robot::RobotInterface {
   MujocoSensorArm(mujoco::World& world, int sensor, const ArmLimits& limits = {});
 
   Status readPose(SE3d& X_ws) override;
-  /// Moves the sensor for dt under the limits. invalid_time_step for dt ≤ 0 or non-finite,
-  /// non_finite_input for a NaN twist; the pose is unchanged then.
+  /// The twist the sensor moves with from now on (World::step moves it), under the limits;
+  /// dt is the time since the last command (for the acceleration limits). invalid_time_step
+  /// for dt ≤ 0 or non-finite, non_finite_input for a NaN twist; the motion is unchanged then.
   Status commandVelocity(const SE3d::Tangent& twist_s, double dt) override;
   /// Teleports the sensor (a blocking move that has finished) and brings the arm to rest.
   Status moveTo(const SE3d& X_ws) override;
-  void stop() override { applied_.setZero(); }
+  void stop() override;
   SE3d pose() const { return world_->sensorPose(sensor_); }
   const SE3d::Tangent& appliedTwist() const { return applied_; }
   int sensor() const { return sensor_; }

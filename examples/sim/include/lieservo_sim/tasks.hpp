@@ -123,6 +123,11 @@ struct PushTrial {
   double final_distance = 0;    ///< sensor centre ↔ target at the end (mm)
   double duration = 0;          ///< s (simulated)
   bool terminated = false;      ///< reached the termination radius
+  /// Passed the target without reaching it: inside the alignment cut-off (ρ* = 120 mm, where
+  /// only the servo acts and nothing steers any more) the sensor's distance to the target
+  /// grew 20 mm beyond its closest approach; the trial stops there.
+  bool passed_target = false;
+  double closest_approach = 1e9;  ///< smallest sensor centre ↔ target distance (mm)
   bool contact_kept = true;     ///< the pusher (leader) was in contact at every control step
   bool follower_contact_kept = true;     ///< dual arm: the follower was in contact at every step
   double follower_contact_fraction = 1;  ///< dual arm: fraction of control steps in contact
@@ -161,8 +166,10 @@ struct PushingResult {
 /// (c) the four short prisms on foam and MDF, single arm.
 PushingResult runSingleArmPushing(const TaskOptions& opt, int trials = 5);
 /// (d) dual arm: the short prisms on foam and MDF, then the tall prisms and the everyday objects
-/// on MDF.
-PushingResult runDualArmPushing(const TaskOptions& opt, int trials = 5, double follower_y_gain = 0);
+/// on MDF. follower_y_gain > 0 runs the named variant "follower + y" (not the paper's Table 9);
+/// round_only keeps the round objects (circle, glass bottle, coffee tin) only.
+PushingResult runDualArmPushing(const TaskOptions& opt, int trials = 5, double follower_y_gain = 0,
+                                bool round_only = false);
 /// The tall prisms and everyday objects pushed by one arm on MDF: reported (how many topple),
 /// not judged.
 PushingResult runTallSingleArmPushing(const TaskOptions& opt, int trials = 5);
