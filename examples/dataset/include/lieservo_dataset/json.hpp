@@ -1,8 +1,10 @@
 // lieservo_dataset/json.hpp — the project's one JSON reader/writer (header-only, no OpenCV): the
 // data set's parameter files, lieservo_collect's output and the ONNX model cards.
 //
-// Reads standard JSON plus the Python json module's non-standard literals Infinity,
-// -Infinity and NaN (the shared meta.json uses them). With JsonParseOptions::repair_stray_closers
+// Reading is RapidJSON's (Debian rapidjson-dev; its SAX reader builds the JsonValue tree
+// below, each value with its line and column): standard JSON plus the Python json module's
+// non-standard literals Infinity, -Infinity and NaN (the shared meta.json uses them). With
+// JsonParseOptions::repair_stray_closers
 // a closing bracket that does not match the open container (the shared env_params.json ends
 // "225]]}") is skipped with a warning instead of failing. Every error and warning names the
 // file, line and column: "<file>:<line>:<col>: error: <what>".
@@ -11,7 +13,9 @@
 // numbers in shortest round-trip form.
 #pragma once
 
+#include <cctype>
 #include <charconv>
+#include <cstdint>
 #include <cmath>
 #include <cstddef>
 #include <cstdlib>
@@ -24,6 +28,9 @@
 #include <system_error>
 #include <utility>
 #include <vector>
+
+#include <rapidjson/error/en.h>
+#include <rapidjson/reader.h>
 
 namespace lieservo::dataset {
 
@@ -163,291 +170,181 @@ struct JsonDocument {
 
 namespace detail {
 
-class JsonParser {
- public:
-  JsonParser(std::string_view text, std::string name, const JsonParseOptions& opt)
-      : s_(text), opt_(opt) {
-    doc_.name = std::move(name);
-  }
+inline bool jsonSpace(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
 
-  JsonDocument parse() {
-    skipSpace();
-    if (pos_ == 0 && s_.substr(0, 3) == "\xEF\xBB\xBF") {  // UTF-8 byte-order mark
-      advance(3);
-      skipSpace();
-    }
-    doc_.root = value(0);
-    skipSpace();
-    while (pos_ < s_.size()) {
-      const char c = s_[pos_];
-      if ((c == ']' || c == '}') && opt_.repair_stray_closers) {
-        warn(std::string("ignored stray '") + c + "' after the top-level value");
-        advance(1);
-        skipSpace();
-        continue;
-      }
-      error(std::string("unexpected ") + describe(c) + " after the top-level value");
-    }
-    return std::move(doc_);
+// "<name>:<line>:<col>" of a byte offset into text (1-based line and column, in bytes).
+inline std::string jsonWhere(std::string_view text, std::size_t offset, const std::string& name) {
+  int line = 1, col = 1;
+  for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
+    if (text[i] == '\n') ++line, col = 1;
+    else ++col;
   }
+  return name + ":" + std::to_string(line) + ":" + std::to_string(col);
+}
+
+// The known quirk of the shared data (env_params.json ends "225]]}"): a closing bracket that
+// does not match the open container is blanked out (a space, so that positions stay) and
+// reported as a warning. Strings are skipped, escapes included.
+inline void blankStrayClosers(std::string& text, const std::string& name, std::vector<std::string>& warnings) {
+  std::vector<char> open;
+  bool in_string = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\') ++i;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      open.push_back(c == '[' ? ']' : '}');
+    } else if (c == ']' || c == '}') {
+      if (!open.empty() && open.back() == c) {
+        open.pop_back();
+      } else {
+        warnings.push_back(jsonWhere(text, i, name) + ": warning: ignored stray '" + c + "'");
+        text[i] = ' ';
+      }
+    }
+  }
+}
+
+// RapidJSON reads the text through this stream, which remembers where the last value began:
+// the first non-space byte after the start or a ',', ':', '[' or '{'.
+struct JsonTrackingStream {
+  using Ch = char;
+  explicit JsonTrackingStream(const char* text) : head(text), p(text) {}
+  Ch Peek() const { return *p; }
+  Ch Take() {
+    const char c = *p;
+    if (expect_value && !jsonSpace(c)) {
+      value_start = Tell();
+      expect_value = false;
+    }
+    if (c == ',' || c == ':' || c == '[' || c == '{') expect_value = true;
+    ++p;
+    return c;
+  }
+  std::size_t Tell() const { return static_cast<std::size_t>(p - head); }
+  // Output (in-situ parsing only): not used.
+  Ch* PutBegin() { return nullptr; }
+  void Put(Ch) {}
+  void Flush() {}
+  std::size_t PutEnd(Ch*) { return 0; }
+
+  const char* head;
+  const char* p;
+  std::size_t value_start = 0;
+  bool expect_value = true;
+};
+
+// Builds the JsonValue tree from RapidJSON's events; stops (returns false) with `error` set
+// for what RapidJSON accepts and the project does not.
+class JsonTreeBuilder : public rapidjson::BaseReaderHandler<rapidjson::UTF8<>, JsonTreeBuilder> {
+ public:
+  JsonTreeBuilder(const JsonTrackingStream& in, std::string_view text, const JsonParseOptions& opt)
+      : in_(in), text_(text), opt_(opt) {}
+
+  bool Null() { return add(JsonValue{}); }
+  bool Bool(bool b) {
+    JsonValue v;
+    v.type = JsonValue::Type::boolean;
+    v.boolean = b;
+    return add(std::move(v));
+  }
+  bool Int(int i) { return Double(i); }
+  bool Uint(unsigned u) { return Double(u); }
+  bool Int64(std::int64_t i) { return Double(static_cast<double>(i)); }
+  bool Uint64(std::uint64_t u) { return Double(static_cast<double>(u)); }
+  bool Double(double d) {
+    if (!std::isfinite(d)) {
+      // Python's json writes exactly NaN, Infinity and -Infinity; RapidJSON also takes
+      // -NaN, Inf and -Inf.
+      std::size_t end = in_.value_start;
+      while (end < text_.size() && (text_[end] == '-' || std::isalpha(static_cast<unsigned char>(text_[end])))) ++end;
+      const std::string_view token = text_.substr(in_.value_start, end - in_.value_start);
+      if (!opt_.allow_non_finite) return stop("'" + std::string(token) + "' is not a JSON number");
+      if (token != "NaN" && token != "Infinity" && token != "-Infinity")
+        return stop("'" + std::string(token) + "' is not a number (non-finite values: NaN, Infinity, -Infinity)");
+    }
+    JsonValue v;
+    v.type = JsonValue::Type::number;
+    v.number = d;
+    return add(std::move(v));
+  }
+  bool String(const char* str, rapidjson::SizeType length, bool) {
+    JsonValue v;
+    v.type = JsonValue::Type::string;
+    v.string.assign(str, length);
+    return add(std::move(v));
+  }
+  bool StartObject() { return open(JsonValue::Type::object); }
+  bool Key(const char* str, rapidjson::SizeType length, bool) {
+    key_.assign(str, length);
+    return true;
+  }
+  bool EndObject(rapidjson::SizeType) { return close(); }
+  bool StartArray() { return open(JsonValue::Type::array); }
+  bool EndArray(rapidjson::SizeType) { return close(); }
+
+  JsonValue root;
+  std::string error;               // why the builder stopped
+  std::size_t error_offset = 0;    // where
 
  private:
-  std::string_view s_;
-  JsonParseOptions opt_;
-  JsonDocument doc_;
-  std::size_t pos_ = 0;
-  int line_ = 1, col_ = 1;
-
-  static std::string describe(char c) {
-    if (c == '\0') return "NUL byte";
-    if (static_cast<unsigned char>(c) < 0x20) return "control character";
-    return std::string("'") + c + "'";
+  bool stop(std::string what) {
+    error = std::move(what);
+    error_offset = in_.value_start;
+    return false;
   }
-  [[noreturn]] void error(const std::string& what) const {
-    throw DatasetError(doc_.name + ":" + std::to_string(line_) + ":" + std::to_string(col_) +
-                       ": error: " + what);
-  }
-  void warn(const std::string& what) {
-    doc_.warnings.push_back(doc_.name + ":" + std::to_string(line_) + ":" + std::to_string(col_) +
-                            ": warning: " + what);
-  }
-  void advance(std::size_t n) {
-    for (std::size_t i = 0; i < n && pos_ < s_.size(); ++i, ++pos_) {
-      if (s_[pos_] == '\n') {
-        ++line_;
-        col_ = 1;
-      } else {
-        ++col_;
-      }
+  JsonValue located(JsonValue v) {
+    int line = 1, col = 1;
+    for (std::size_t i = line_offset_; i < in_.value_start; ++i) {
+      if (text_[i] == '\n') ++line, col = 1;
+      else ++col;
     }
-  }
-  void skipSpace() {
-    while (pos_ < s_.size() &&
-           (s_[pos_] == ' ' || s_[pos_] == '\t' || s_[pos_] == '\n' || s_[pos_] == '\r')) {
-      advance(1);
-    }
-  }
-  bool startsWith(std::string_view w) const { return s_.substr(pos_, w.size()) == w; }
-
-  JsonValue value(int depth) {
-    if (depth > opt_.max_depth) error("nesting deeper than " + std::to_string(opt_.max_depth));
-    skipSpace();
-    if (pos_ >= s_.size()) error("unexpected end of file, expected a value");
-    JsonValue v;
+    line_ += line - 1;
+    column_ = line > 1 ? col : column_ + col - 1;
+    line_offset_ = in_.value_start;
     v.line = line_;
-    v.column = col_;
-    const char c = s_[pos_];
-    if (c == '{') {
-      v.type = JsonValue::Type::object;
-      object(v, depth);
-    } else if (c == '[') {
-      v.type = JsonValue::Type::array;
-      array(v, depth);
-    } else if (c == '"') {
-      v.type = JsonValue::Type::string;
-      v.string = stringLiteral();
-    } else if (startsWith("true")) {
-      v.type = JsonValue::Type::boolean;
-      v.boolean = true;
-      advance(4);
-    } else if (startsWith("false")) {
-      v.type = JsonValue::Type::boolean;
-      advance(5);
-    } else if (startsWith("null")) {
-      advance(4);
-    } else {
-      v.type = JsonValue::Type::number;
-      v.number = numberLiteral();
-    }
+    v.column = column_;
     return v;
   }
-
-  // After a member/element: ',' continues, `close` ends; a mismatched closer may be skipped.
-  bool separatorOrClose(char close, const char* what) {
-    for (;;) {
-      skipSpace();
-      if (pos_ >= s_.size()) error(std::string("unexpected end of file in ") + what + ", expected ',' or '" + close + "'");
-      const char c = s_[pos_];
-      if (c == ',') {
-        advance(1);
-        return true;
-      }
-      if (c == close) {
-        advance(1);
-        return false;
-      }
-      const char other = close == ']' ? '}' : ']';
-      if (c == other && opt_.repair_stray_closers) {
-        warn(std::string("ignored stray '") + c + "' in " + what);
-        advance(1);
-        continue;
-      }
-      error(std::string("expected ',' or '") + close + "' in " + what + ", got " + describe(c));
-    }
-  }
-
-  void object(JsonValue& v, int depth) {
-    advance(1);  // '{'
-    skipSpace();
-    if (pos_ < s_.size() && s_[pos_] == '}') {
-      advance(1);
-      return;
-    }
-    for (;;) {
-      skipSpace();
-      if (pos_ >= s_.size()) error("unexpected end of file in an object, expected a key");
-      if (s_[pos_] != '"') error("expected a string key in an object, got " + describe(s_[pos_]));
-      std::string key = stringLiteral();
-      skipSpace();
-      if (pos_ >= s_.size() || s_[pos_] != ':') error("expected ':' after key \"" + key + "\"");
-      advance(1);
-      JsonValue member = value(depth + 1);
-      v.object.push_back(JsonMember{std::move(key), std::move(member)});
-      if (!separatorOrClose('}', "an object")) return;
-    }
-  }
-
-  void array(JsonValue& v, int depth) {
-    advance(1);  // '['
-    skipSpace();
-    if (pos_ < s_.size() && s_[pos_] == ']') {
-      advance(1);
-      return;
-    }
-    for (;;) {
-      v.array.push_back(value(depth + 1));
-      if (!separatorOrClose(']', "an array")) return;
-    }
-  }
-
-  static void appendUtf8(std::string& out, unsigned cp) {
-    if (cp < 0x80) {
-      out += static_cast<char>(cp);
-    } else if (cp < 0x800) {
-      out += static_cast<char>(0xC0 | (cp >> 6));
-      out += static_cast<char>(0x80 | (cp & 0x3F));
-    } else if (cp < 0x10000) {
-      out += static_cast<char>(0xE0 | (cp >> 12));
-      out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
-      out += static_cast<char>(0x80 | (cp & 0x3F));
+  // Places a finished value in its parent (or as the root).
+  bool add(JsonValue v) {
+    v = located(std::move(v));
+    if (stack_.empty()) {
+      root = std::move(v);
+    } else if (stack_.back()->isArray()) {
+      stack_.back()->array.push_back(std::move(v));
     } else {
-      out += static_cast<char>(0xF0 | (cp >> 18));
-      out += static_cast<char>(0x80 | ((cp >> 12) & 0x3F));
-      out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
-      out += static_cast<char>(0x80 | (cp & 0x3F));
+      stack_.back()->object.push_back({key_, std::move(v)});
     }
+    return true;
+  }
+  bool open(JsonValue::Type type) {
+    if (static_cast<int>(stack_.size()) >= opt_.max_depth)
+      return stop("nesting deeper than " + std::to_string(opt_.max_depth));
+    JsonValue v;
+    v.type = type;
+    add(std::move(v));
+    JsonValue* self = stack_.empty() ? &root
+                      : stack_.back()->isArray() ? &stack_.back()->array.back()
+                                                 : &stack_.back()->object.back().value;
+    stack_.push_back(self);
+    return true;
+  }
+  bool close() {
+    stack_.pop_back();
+    return true;
   }
 
-  unsigned hex4() {
-    if (pos_ + 4 > s_.size()) error("truncated \\u escape");
-    unsigned cp = 0;
-    for (int i = 0; i < 4; ++i) {
-      const char h = s_[pos_];
-      cp <<= 4;
-      if (h >= '0' && h <= '9') cp |= static_cast<unsigned>(h - '0');
-      else if (h >= 'a' && h <= 'f') cp |= static_cast<unsigned>(h - 'a' + 10);
-      else if (h >= 'A' && h <= 'F') cp |= static_cast<unsigned>(h - 'A' + 10);
-      else error("invalid hex digit in \\u escape");
-      advance(1);
-    }
-    return cp;
-  }
-
-  std::string stringLiteral() {
-    advance(1);  // '"'
-    std::string out;
-    for (;;) {
-      if (pos_ >= s_.size() || s_[pos_] == '\n') error("unterminated string");
-      const char c = s_[pos_];
-      if (c == '"') {
-        advance(1);
-        return out;
-      }
-      if (static_cast<unsigned char>(c) < 0x20) error("control character in a string");
-      if (c != '\\') {
-        out += c;
-        advance(1);
-        continue;
-      }
-      advance(1);
-      if (pos_ >= s_.size()) error("unterminated escape");
-      const char e = s_[pos_];
-      switch (e) {
-        case '"': out += '"'; break;
-        case '\\': out += '\\'; break;
-        case '/': out += '/'; break;
-        case 'b': out += '\b'; break;
-        case 'f': out += '\f'; break;
-        case 'n': out += '\n'; break;
-        case 'r': out += '\r'; break;
-        case 't': out += '\t'; break;
-        case 'u': {
-          advance(1);
-          unsigned cp = hex4();
-          if (cp >= 0xD800 && cp < 0xDC00 && startsWith("\\u")) {
-            advance(2);
-            const unsigned lo = hex4();
-            if (lo >= 0xDC00 && lo < 0xE000) cp = 0x10000 + ((cp - 0xD800) << 10) + (lo - 0xDC00);
-            else error("invalid surrogate pair");
-          }
-          appendUtf8(out, cp);
-          continue;
-        }
-        default: error(std::string("invalid escape '\\") + e + "'");
-      }
-      advance(1);
-    }
-  }
-
-  double numberLiteral() {
-    const bool neg = s_[pos_] == '-';
-    const std::size_t start = pos_ + (neg ? 1 : 0);
-    const std::string_view rest = s_.substr(start);
-    if (rest.substr(0, 8) == "Infinity" || rest.substr(0, 3) == "NaN") {
-      const bool inf = rest[0] == 'I';
-      if (!opt_.allow_non_finite) error(std::string("non-finite literal '") + (inf ? "Infinity" : "NaN") + "' not allowed");
-      if (!inf && neg) error("'-NaN' is not a valid literal");
-      advance((neg ? 1 : 0) + (inf ? 8 : 3));
-      const double x = inf ? std::numeric_limits<double>::infinity() : std::numeric_limits<double>::quiet_NaN();
-      return neg ? -x : x;
-    }
-    // JSON grammar: -?(0|[1-9][0-9]*)(\.[0-9]+)?([eE][+-]?[0-9]+)?
-    std::size_t i = start;
-    auto digits = [&](std::size_t& k) {
-      const std::size_t k0 = k;
-      while (k < s_.size() && s_[k] >= '0' && s_[k] <= '9') ++k;
-      return k - k0;
-    };
-    bool ok = true;
-    if (i < s_.size() && s_[i] == '0') ++i;
-    else ok = digits(i) > 0;
-    if (ok && i < s_.size() && s_[i] == '.') {
-      ++i;
-      ok = digits(i) > 0;
-    }
-    if (ok && i < s_.size() && (s_[i] == 'e' || s_[i] == 'E')) {
-      ++i;
-      if (i < s_.size() && (s_[i] == '+' || s_[i] == '-')) ++i;
-      ok = digits(i) > 0;
-    }
-    if (!ok || i == start) {
-      std::size_t j = pos_;
-      while (j < s_.size() && j < pos_ + 20 && s_[j] != ',' && s_[j] != ']' && s_[j] != '}' &&
-             s_[j] != '\n' && s_[j] != ' ')
-        ++j;
-      error("invalid value '" + std::string(s_.substr(pos_, j - pos_)) + "'");
-    }
-    double x = 0;
-    const auto r = std::from_chars(s_.data() + pos_, s_.data() + i, x);
-    if (r.ec == std::errc::result_out_of_range) {
-      // from_chars leaves x unchanged on overflow/underflow; Python gives ±inf / 0.
-      x = std::strtod(std::string(s_.substr(pos_, i - pos_)).c_str(), nullptr);
-    } else if (r.ec != std::errc() || r.ptr != s_.data() + i) {
-      error("invalid number '" + std::string(s_.substr(pos_, i - pos_)) + "'");
-    }
-    advance(i - pos_);
-    return x;
-  }
+  const JsonTrackingStream& in_;
+  std::string_view text_;
+  JsonParseOptions opt_;
+  std::string key_;
+  std::vector<JsonValue*> stack_;  // open containers (their vectors are not resized while open)
+  std::size_t line_offset_ = 0;  // the last value's start, and its line and column
+  int line_ = 1, column_ = 1;
 };
 
 }  // namespace detail
@@ -455,7 +352,39 @@ class JsonParser {
 /// Parse text; `name` is used in messages. Throws DatasetError.
 inline JsonDocument parseJson(std::string_view text, const std::string& name,
                               const JsonParseOptions& opt = {}) {
-  return detail::JsonParser(text, name, opt).parse();
+  JsonDocument doc;
+  doc.name = name;
+  std::string buf(text);  // NUL-terminated for RapidJSON, and repairable
+  if (buf.compare(0, 3, "\xEF\xBB\xBF") == 0) buf.replace(0, 3, "   ");  // UTF-8 byte-order mark
+  if (opt.repair_stray_closers) detail::blankStrayClosers(buf, name, doc.warnings);
+  detail::JsonTrackingStream in(buf.c_str());
+  detail::JsonTreeBuilder builder(in, buf, opt);
+  rapidjson::Reader reader;
+  // Recursive (not iterative) parsing: it calls StartObject/StartArray after taking the
+  // bracket, so the stream knows where the container began; the builder's depth limit bounds
+  // the recursion.
+  constexpr unsigned flags =
+      rapidjson::kParseNanAndInfFlag | rapidjson::kParseFullPrecisionFlag | rapidjson::kParseValidateEncodingFlag;
+  const rapidjson::ParseResult r = reader.Parse<flags>(in, builder);
+  if (!builder.error.empty())
+    throw DatasetError(detail::jsonWhere(buf, builder.error_offset, name) + ": error: " + builder.error);
+  if (r.IsError()) {
+    std::size_t at = r.Offset();
+    std::string what = rapidjson::GetParseError_En(r.Code());
+    if (r.Code() == rapidjson::kParseErrorValueInvalid) {
+      at = in.value_start;  // the start of the bad token, not where reading it stopped
+      std::size_t end = at;
+      while (end < buf.size() && !detail::jsonSpace(buf[end]) && buf[end] != ',' && buf[end] != ']' && buf[end] != '}')
+        ++end;
+      what += " ('" + buf.substr(at, end - at) + "')";
+    } else if (r.Code() == rapidjson::kParseErrorStringEscapeInvalid && at < buf.size() &&
+               static_cast<unsigned char>(buf[at]) < 0x20) {
+      what = "a control character in a string (an unterminated string?)";
+    }
+    throw DatasetError(detail::jsonWhere(buf, at, name) + ": error: " + what);
+  }
+  doc.root = std::move(builder.root);
+  return doc;
 }
 
 inline std::string readTextFile(const std::string& path) {
