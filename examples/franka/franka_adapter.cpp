@@ -4,6 +4,7 @@
 // Everything the 1 kHz callback computes is lieservo::realtime::CartesianVelocityPipeline,
 // which is tested in CI against a fake robot (tests/realtime).
 #include "franka_adapter.hpp"
+#include "franka_frames.hpp"
 
 #include <franka/control_types.h>
 #include <franka/duration.h>
@@ -72,7 +73,7 @@ Status FrankaAdapter::sensorPoseFromState(const std::array<double, 16>& O_T_EE, 
   mount_mm.R_es = options_.X_ee_s.rotationMatrix();
   mount_mm.p_es = options_.X_ee_s.translation();
   realtime::Matrix4 X_os;
-  Status s = realtime::sensorPoseFromColumnMajor(O_T_EE, mount_mm, 1e3, X_os);
+  Status s = franka_frames::sensorPoseFromColumnMajor(O_T_EE, mount_mm, 1e3, X_os);
   if (s != Status::ok) return s;
   SE3d X;
   s = SE3d::fromMatrixProjected(X_os, X);
@@ -153,7 +154,8 @@ void FrankaAdapter::velocityLoop() {
           const bool stopping = stop_requested_.load(std::memory_order_acquire);
           if (stopping) {
             (void)pipeline.stepStopping(out);
-          } else if (pipeline.step(state.O_T_EE, commands_, realtime::steadyNowNs(), out) != Status::ok) {
+          } else if (pipeline.step(franka_frames::homogeneous(state.O_T_EE), commands_, realtime::steadyNowNs(),
+                                   out) != Status::ok) {
             pipeline_errors_.fetch_add(1, std::memory_order_relaxed);
             (void)pipeline.stepStopping(out);  // latched: needs rearm()
           }
@@ -231,7 +233,7 @@ Status FrankaAdapter::moveTo(const SE3d& X_ws_goal) {
           // Body-frame error of the sensor, e = log(X_os⁻¹ X_os_goal) (eqn:local_tangent_space_error).
           realtime::Matrix4 X_os_m;
           SE3d X_os;
-          bool ok = realtime::sensorPoseFromColumnMajor(state.O_T_EE, mount_mm, 1e3, X_os_m) == Status::ok &&
+          bool ok = franka_frames::sensorPoseFromColumnMajor(state.O_T_EE, mount_mm, 1e3, X_os_m) == Status::ok &&
                     SE3d::fromMatrixProjected(X_os_m, X_os) == Status::ok;
           Twist e = Twist::Zero();
           if (ok) {
@@ -255,7 +257,8 @@ Status FrankaAdapter::moveTo(const SE3d& X_ws_goal) {
           c.twist_s = toArray(u);
           c.in_contact = true;
           const std::int64_t now = realtime::steadyNowNs();
-          if (pipeline.step(state.O_T_EE, c, ChannelStamp{++seq, now}, now, out) != Status::ok) {
+          const realtime::Matrix4 T_oe = franka_frames::homogeneous(state.O_T_EE);
+          if (pipeline.step(T_oe, c, ChannelStamp{++seq, now}, now, out) != Status::ok) {
             failed = true;
             (void)pipeline.stepStopping(out);
           }

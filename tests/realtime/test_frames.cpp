@@ -1,4 +1,4 @@
-// Sensor body twist → libfranka's base-frame EE-origin velocity, against hand-computed cases
+// Sensor body twist → the base-frame EE-origin velocity (libfranka's O_dP_EE), against hand-computed cases
 // and a finite-difference check of the rigid-body kinematics.
 #include <catch2/catch.hpp>
 
@@ -32,19 +32,6 @@ Matrix4 homogeneous(const Matrix3& R, const Vector3& p) {
 }
 
 }  // namespace
-
-TEST_CASE("frames: column-major O_T_EE is read as libfranka lays it out", "[realtime][frames]") {
-  // A pose with R = Rz(90°), p = (0.3, -0.1, 0.5): column-major means translation at 12..14.
-  const std::array<double, 16> a = {0, 1, 0, 0,  -1, 0, 0, 0,  0, 0, 1, 0,  0.3, -0.1, 0.5, 1};
-  Matrix3 R;
-  Vector3 p;
-  REQUIRE(poseFromColumnMajor(a, R, p) == Status::ok);
-  CHECK(R.isApprox(rotZ(M_PI / 2), 1e-15));
-  CHECK(p.isApprox(Vector3(0.3, -0.1, 0.5)));
-  Matrix4 M;
-  REQUIRE(poseFromColumnMajor(a, M) == Status::ok);
-  CHECK(toColumnMajor(M) == a);
-}
 
 TEST_CASE("frames: hand-computed twist conversions", "[realtime][frames]") {
   SECTION("identity pose and mount: unchanged") {
@@ -132,45 +119,45 @@ TEST_CASE("frames: conversion matches finite differences of the rigid-body motio
   }
 }
 
-TEST_CASE("frames: sensor pose and checked conversion from O_T_EE", "[realtime][frames]") {
+TEST_CASE("frames: sensor pose and checked conversion from the EE pose T_OE", "[realtime][frames]") {
   SensorMount m;
   m.R_es = rotZ(0.3);
   m.p_es = Vector3(0, 0, 120);  // mm: the pose output is in mm
   const Matrix3 R = rotX(M_PI);
-  const std::array<double, 16> a = toColumnMajor(homogeneous(R, Vector3(0.4, 0.0, 0.3)));
+  const Matrix4 T = homogeneous(R, Vector3(0.4, 0.0, 0.3));
   Matrix4 X;
-  REQUIRE(sensorPoseFromColumnMajor(a, m, 1e3, X) == Status::ok);
+  REQUIRE(sensorPoseFromHomogeneous(T, m, 1e3, X) == Status::ok);
   CHECK(X.topLeftCorner<3, 3>().isApprox(R * m.R_es));
   CHECK(X.topRightCorner<3, 1>().isApprox(Vector3(400, 0, 300 - 120)));
 
   SensorMount m_m = m;
   m_m.p_es = Vector3(0, 0, 0.12);
   Vector6 out = Vector6::Constant(9);
-  REQUIRE(sensorTwistToBaseChecked(a, m_m, twist(0, 0, 10, 0, 0, 0), 1e-3, out) == Status::ok);
+  REQUIRE(sensorTwistToBaseChecked(T, m_m, twist(0, 0, 10, 0, 0, 0), 1e-3, out) == Status::ok);
   CHECK(out.isApprox(twist(0, 0, -0.01, 0, 0, 0)));
 }
 
 TEST_CASE("frames: bad poses and twists are rejected with outputs untouched", "[realtime][frames]") {
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  const std::array<double, 16> good = toColumnMajor(Matrix4::Identity());
+  const Matrix4 good = Matrix4::Identity();
   Matrix3 R = Matrix3::Constant(5);
   Vector3 p = Vector3::Constant(5);
   Matrix4 M = Matrix4::Constant(5);
   Vector6 out = Vector6::Constant(5);
   SensorMount m;
 
-  auto bad = good;
-  bad[5] = nan;
-  CHECK(poseFromColumnMajor(bad, R, p) == Status::non_finite_input);
+  Matrix4 bad = good;
+  bad(1, 1) = nan;
+  CHECK(poseFromHomogeneous(bad, R, p) == Status::non_finite_input);
   bad = good;
-  bad[3] = 0.5;  // bottom row (row 3, column 0) must be 0
-  CHECK(poseFromColumnMajor(bad, R, p) == Status::invalid_argument);
+  bad(3, 0) = 0.5;  // the bottom row must be (0 0 0 1)
+  CHECK(poseFromHomogeneous(bad, R, p) == Status::invalid_argument);
   bad = good;
-  bad[0] = 1.1;  // scaled rotation
-  CHECK(poseFromColumnMajor(bad, R, p) == Status::not_orthonormal);
+  bad(0, 0) = 1.1;  // scaled rotation
+  CHECK(poseFromHomogeneous(bad, R, p) == Status::not_orthonormal);
   bad = good;
-  bad[0] = -1;  // reflection: det −1
-  CHECK(poseFromColumnMajor(bad, M) == Status::not_orthonormal);
+  bad(0, 0) = -1;  // reflection: det −1
+  CHECK(sensorPoseFromHomogeneous(bad, m, 1.0, M) == Status::not_orthonormal);
   CHECK(R == Matrix3::Constant(5));
   CHECK(p == Vector3::Constant(5));
   CHECK(M == Matrix4::Constant(5));
@@ -180,7 +167,7 @@ TEST_CASE("frames: bad poses and twists are rejected with outputs untouched", "[
   xi[3] = nan;
   CHECK(sensorTwistToBaseChecked(good, m, xi, 1.0, out) == Status::non_finite_input);
   CHECK(sensorTwistToBaseChecked(good, m, Vector6::Zero(), 0.0, out) == Status::invalid_argument);
-  CHECK(sensorPoseFromColumnMajor(good, m, -1.0, M) == Status::invalid_argument);
+  CHECK(sensorPoseFromHomogeneous(good, m, -1.0, M) == Status::invalid_argument);
   CHECK(out == Vector6::Constant(5));
   CHECK(M == Matrix4::Constant(5));
 
@@ -191,9 +178,9 @@ TEST_CASE("frames: bad poses and twists are rejected with outputs untouched", "[
   skew.p_es[0] = nan;
   CHECK(skew.validate() == Status::non_finite_input);
   // Small numerical noise in a robot-supplied rotation is accepted.
-  auto noisy = good;
-  noisy[1] = 1e-9;
-  CHECK(poseFromColumnMajor(noisy, R, p) == Status::ok);
+  Matrix4 noisy = good;
+  noisy(1, 0) = 1e-9;
+  CHECK(poseFromHomogeneous(noisy, R, p) == Status::ok);
 }
 
 TEST_CASE("frames: the conversion is Ad(X_O'S) of the library's SE3 (mixed twist)", "[realtime][frames]") {

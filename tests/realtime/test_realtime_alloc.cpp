@@ -35,7 +35,7 @@ TEST_CASE("alloc: smoother, watchdog, latest-value hand-over, frames and pipelin
   PipelineOptions po;
   po.mount.p_es = Vector3(0, 0, 0.12);
   REQUIRE(pipe.configure(po) == Status::ok);
-  std::array<double, 16> O_T_EE = toColumnMajor(Matrix4::Identity());
+  const Matrix4 T_OE = Matrix4::Identity();
   std::array<double, 6> out{};
   Eigen::Matrix<double, 6, 1> target;
   target << 0.3, -0.2, 0.1, 1.0, -0.5, 0.2;
@@ -56,8 +56,8 @@ TEST_CASE("alloc: smoother, watchdog, latest-value hand-over, frames and pipelin
       channel->write(cmd);
       TwistCommand got;
       (void)channel->read(got, stamp);
-      (void)sensorTwistToBaseChecked(O_T_EE, po.mount, target, 1e-3, base);
-      (void)pipe.step(O_T_EE, *channel, steadyNowNs(), out);
+      (void)sensorTwistToBaseChecked(T_OE, po.mount, target, 1e-3, base);
+      (void)pipe.step(T_OE, *channel, steadyNowNs(), out);
       if (k == 2500) pipe.requestStop();
       (void)pipe.stepStopping(out);
       (void)smoother.stoppingTimeBound(1e-3);

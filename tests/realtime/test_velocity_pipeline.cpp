@@ -23,11 +23,11 @@ struct FakeArm {
     const Vector3 w = x.tail<3>();
     if (w.norm() > 0) R = Eigen::AngleAxisd(dt * w.norm(), w.normalized()).toRotationMatrix() * R;
   }
-  std::array<double, 16> O_T_EE() const {
+  Matrix4 T_OE() const {
     Matrix4 T = Matrix4::Identity();
     T.topLeftCorner<3, 3>() = R;
     T.topRightCorner<3, 1>() = p;
-    return toColumnMajor(T);
+    return T;
   }
 };
 
@@ -52,20 +52,20 @@ TEST_CASE("pipeline: rotating about the tip centre keeps the tip in place", "[re
   std::array<double, 6> out{};
   rt_test::LimitChecker check{pipe.options().limits, 1e-3};
   Matrix4 X0;
-  REQUIRE(sensorPoseFromColumnMajor(arm.O_T_EE(), pipe.options().mount, 1.0, X0) == Status::ok);
+  REQUIRE(sensorPoseFromHomogeneous(arm.T_OE(), pipe.options().mount, 1.0, X0) == Status::ok);
   std::uint64_t seq = 0;
   Matrix4 X_after_ramp;
   for (int k = 0; k < 2000; ++k) {
     if (k == 200)
-      REQUIRE(sensorPoseFromColumnMajor(arm.O_T_EE(), pipe.options().mount, 1.0, X_after_ramp) == Status::ok);
+      REQUIRE(sensorPoseFromHomogeneous(arm.T_OE(), pipe.options().mount, 1.0, X_after_ramp) == Status::ok);
     if (k % 33 == 0) ++seq;  // a fresh tactile command every 33 ms
     const ChannelStamp stamp{seq, static_cast<std::int64_t>((k - k % 33)) * ms};
-    REQUIRE(pipe.step(arm.O_T_EE(), cmd, stamp, k * ms, out) == Status::ok);
+    REQUIRE(pipe.step(arm.T_OE(), cmd, stamp, k * ms, out) == Status::ok);
     check.push(Eigen::Map<const Vector6>(out.data()));
     arm.integrate(out, 1e-3);
   }
   Matrix4 X1;
-  REQUIRE(sensorPoseFromColumnMajor(arm.O_T_EE(), pipe.options().mount, 1.0, X1) == Status::ok);
+  REQUIRE(sensorPoseFromHomogeneous(arm.T_OE(), pipe.options().mount, 1.0, X1) == Status::ok);
   // The EE moved a lot, the tip centre hardly: smoothing happens at the EE (so the limits
   // hold on the robot's signal), with separate linear and angular ramps, so during the
   // ~40 ms start-up ramp the rotation is not exactly about the tip (documented); after it,
@@ -88,7 +88,7 @@ TEST_CASE("pipeline: pressing along the sensor z moves the arm down in the base 
   std::array<double, 6> out{};
   for (int k = 0; k < 1000; ++k) {
     const ChannelStamp stamp{static_cast<std::uint64_t>(k + 1), k * 1000000LL};
-    REQUIRE(pipe.step(arm.O_T_EE(), cmd, stamp, k * 1000000LL, out) == Status::ok);
+    REQUIRE(pipe.step(arm.T_OE(), cmd, stamp, k * 1000000LL, out) == Status::ok);
     arm.integrate(out, 1e-3);
   }
   CHECK(out[2] == Approx(-0.01).margin(1e-12));
@@ -107,7 +107,7 @@ TEST_CASE("pipeline: stale commands and stop requests ramp to zero, rearm resume
   const ChannelStamp stamp{1, 0};  // written once at t = 0, never again
   int k = 0;
   for (; k < 300; ++k) {
-    REQUIRE(pipe.step(arm.O_T_EE(), cmd, stamp, k * 1000000LL, out) == Status::ok);
+    REQUIRE(pipe.step(arm.T_OE(), cmd, stamp, k * 1000000LL, out) == Status::ok);
     check.push(Eigen::Map<const Vector6>(out.data()));
     if (k == 50) CHECK(Eigen::Map<const Vector6>(out.data()).norm() > 0);
   }
@@ -118,20 +118,20 @@ TEST_CASE("pipeline: stale commands and stop requests ramp to zero, rearm resume
   // Fresh commands again → moves; then a stop request ramps down and latches.
   for (; k < 600; ++k) {
     const ChannelStamp s{static_cast<std::uint64_t>(k), k * 1000000LL};
-    REQUIRE(pipe.step(arm.O_T_EE(), cmd, s, k * 1000000LL, out) == Status::ok);
+    REQUIRE(pipe.step(arm.T_OE(), cmd, s, k * 1000000LL, out) == Status::ok);
     check.push(Eigen::Map<const Vector6>(out.data()));
   }
   CHECK_FALSE(pipe.stopped());
   pipe.requestStop();
   for (; k < 900; ++k) {
     const ChannelStamp s{static_cast<std::uint64_t>(k), k * 1000000LL};
-    REQUIRE(pipe.step(arm.O_T_EE(), cmd, s, k * 1000000LL, out) == Status::ok);
+    REQUIRE(pipe.step(arm.T_OE(), cmd, s, k * 1000000LL, out) == Status::ok);
     check.push(Eigen::Map<const Vector6>(out.data()));
   }
   CHECK(pipe.stopped());
   pipe.rearm();
   const ChannelStamp s{100000, k * 1000000LL};
-  REQUIRE(pipe.step(arm.O_T_EE(), cmd, s, k * 1000000LL, out) == Status::ok);
+  REQUIRE(pipe.step(arm.T_OE(), cmd, s, k * 1000000LL, out) == Status::ok);
   CHECK_FALSE(pipe.stopped());
   CHECK(check.worst_norm <= 1 + 1e-9);
 }
@@ -145,20 +145,20 @@ TEST_CASE("pipeline: bad pose or command -> Status, output and state unchanged, 
   std::array<double, 6> out{};
   for (int k = 0; k < 100; ++k) {
     const ChannelStamp s{static_cast<std::uint64_t>(k + 1), k * 1000000LL};
-    REQUIRE(pipe.step(arm.O_T_EE(), cmd, s, k * 1000000LL, out) == Status::ok);
+    REQUIRE(pipe.step(arm.T_OE(), cmd, s, k * 1000000LL, out) == Status::ok);
   }
   const auto v_before = pipe.smoother().velocity();
   const std::array<double, 6> out_before = out;
-  auto bad_pose = arm.O_T_EE();
-  bad_pose[0] = std::numeric_limits<double>::quiet_NaN();
+  auto bad_pose = arm.T_OE();
+  bad_pose(0, 0) = std::numeric_limits<double>::quiet_NaN();
   const ChannelStamp s{200, 100000000LL};
   CHECK(pipe.step(bad_pose, cmd, s, 100000000LL, out) == Status::non_finite_input);
-  bad_pose = arm.O_T_EE();
-  bad_pose[0] = 2.0;
+  bad_pose = arm.T_OE();
+  bad_pose(0, 0) = 2.0;
   CHECK(pipe.step(bad_pose, cmd, s, 100000000LL, out) == Status::not_orthonormal);
   TwistCommand bad_cmd = cmd;
   bad_cmd.twist_s[2] = std::numeric_limits<double>::infinity();
-  CHECK(pipe.step(arm.O_T_EE(), bad_cmd, s, 100000000LL, out) == Status::non_finite_input);
+  CHECK(pipe.step(arm.T_OE(), bad_cmd, s, 100000000LL, out) == Status::non_finite_input);
   CHECK(out == out_before);
   CHECK(pipe.smoother().velocity() == v_before);
   CHECK(pipe.watchdog().passCommands());

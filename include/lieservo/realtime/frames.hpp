@@ -1,6 +1,6 @@
 // lieservo/realtime/frames.hpp — sensor-frame twists to a robot's base-frame command.
 //
-// Frames: {O} robot base, {E} end effector (libfranka's "EE", pose O_T_EE), {S} tactile
+// Frames: {O} robot base, {E} end effector (pose T_OE; libfranka's O_T_EE), {S} tactile
 // sensor (tip centre, z out of the tip), rigidly mounted: X_OS = X_OE X_ES, with the
 // mounting transform X_ES = (R_ES, p_ES) (p_ES: the sensor origin in {E} coordinates).
 //
@@ -30,7 +30,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <array>
 #include <cmath>
 
 namespace lieservo::realtime {
@@ -50,42 +49,20 @@ inline bool isRotation(const Matrix3& R, double tol = kRotationTolerance) noexce
   return err <= tol && std::abs(R.determinant() - 1.0) <= 3 * tol;
 }
 
-/// A column-major homogeneous 4×4 (libfranka's O_T_EE layout: element (r, c) at c*4 + r)
-/// to a rotation and a translation. Checks: finite, bottom row (0 0 0 1), rotation
-/// orthonormal (tol). Errors: non_finite_input, invalid_argument (bottom row),
-/// not_orthonormal; outputs untouched unless ok.
-inline Status poseFromColumnMajor(const std::array<double, 16>& T, Matrix3& R, Vector3& p,
-                                  double tol = kRotationTolerance) noexcept {
-  for (double x : T)
-    if (!std::isfinite(x)) return Status::non_finite_input;
-  if (std::abs(T[3]) > tol || std::abs(T[7]) > tol || std::abs(T[11]) > tol || std::abs(T[15] - 1.0) > tol)
+/// A homogeneous 4×4 pose T_OE (the robot's end effector in its base frame) to a rotation
+/// and a translation. Checks: finite, bottom row (0 0 0 1), rotation orthonormal (tol).
+/// Errors: non_finite_input, invalid_argument (bottom row), not_orthonormal; outputs
+/// untouched unless ok. (A robot library's own layout, e.g. libfranka's column-major
+/// O_T_EE array, is mapped to a Matrix4 by its adapter: examples/franka/franka_frames.hpp.)
+inline Status poseFromHomogeneous(const Matrix4& T, Matrix3& R, Vector3& p, double tol = kRotationTolerance) noexcept {
+  if (!T.allFinite()) return Status::non_finite_input;
+  if (std::abs(T(3, 0)) > tol || std::abs(T(3, 1)) > tol || std::abs(T(3, 2)) > tol || std::abs(T(3, 3) - 1.0) > tol)
     return Status::invalid_argument;
-  const Eigen::Map<const Matrix4> M(T.data());  // Eigen's default storage is column-major
-  const Matrix3 Rm = M.topLeftCorner<3, 3>();
+  const Matrix3 Rm = T.topLeftCorner<3, 3>();
   if (!isRotation(Rm, tol)) return Status::not_orthonormal;
   R = Rm;
-  p = M.topRightCorner<3, 1>();
+  p = T.topRightCorner<3, 1>();
   return Status::ok;
-}
-
-/// As above, into a homogeneous matrix (e.g. for lieservo::SE3::fromMatrixProjected).
-inline Status poseFromColumnMajor(const std::array<double, 16>& T, Matrix4& out,
-                                  double tol = kRotationTolerance) noexcept {
-  Matrix3 R;
-  Vector3 p;
-  const Status s = poseFromColumnMajor(T, R, p, tol);
-  if (s != Status::ok) return s;
-  out.setIdentity();
-  out.topLeftCorner<3, 3>() = R;
-  out.topRightCorner<3, 1>() = p;
-  return Status::ok;
-}
-
-/// A homogeneous matrix to libfranka's column-major array.
-inline std::array<double, 16> toColumnMajor(const Matrix4& M) noexcept {
-  std::array<double, 16> a{};
-  Eigen::Map<Matrix4>(a.data()) = M;
-  return a;
 }
 
 /// Rigid mounting of the sensor on the end effector: X_ES = (R_ES, p_ES).
@@ -129,32 +106,31 @@ inline Vector6 baseTwistToSensor(const Matrix3& R_oe, const SensorMount& mount, 
   return out;
 }
 
-/// Checked conversion from libfranka's O_T_EE: Status from poseFromColumnMajor or
+/// Checked conversion with the EE pose T_OE: Status from poseFromHomogeneous or
 /// non_finite_input for ξ_s / invalid_argument for a non-positive scale; `out` untouched
 /// unless ok. The mount is assumed validated (SensorMount::validate) by the caller.
-inline Status sensorTwistToBaseChecked(const std::array<double, 16>& O_T_EE, const SensorMount& mount,
-                                       const Vector6& xi_s, double translation_scale,
-                                       Vector6& out) noexcept {
+inline Status sensorTwistToBaseChecked(const Matrix4& T_oe, const SensorMount& mount, const Vector6& xi_s,
+                                       double translation_scale, Vector6& out) noexcept {
   if (!xi_s.allFinite() || !std::isfinite(translation_scale)) return Status::non_finite_input;
   if (!(translation_scale > 0)) return Status::invalid_argument;
   Matrix3 R;
   Vector3 p;
-  const Status s = poseFromColumnMajor(O_T_EE, R, p);
+  const Status s = poseFromHomogeneous(T_oe, R, p);
   if (s != Status::ok) return s;
   out = sensorTwistToBase(R, mount, xi_s, translation_scale);
   return Status::ok;
 }
 
-/// Sensor pose in the base frame from O_T_EE and the mount: X_OS = X_OE X_ES, with the
-/// EE translation multiplied by `translation_scale` (m → mm: 1e3) and p_ES in the output
-/// unit. Checked like poseFromColumnMajor.
-inline Status sensorPoseFromColumnMajor(const std::array<double, 16>& O_T_EE, const SensorMount& mount,
-                                        double translation_scale, Matrix4& X_os) noexcept {
+/// Sensor pose in the base frame from the EE pose T_OE and the mount: X_OS = T_OE X_ES,
+/// with the EE translation multiplied by `translation_scale` (m → mm: 1e3) and p_ES in the
+/// output unit. Checked like poseFromHomogeneous; X_os untouched unless ok.
+inline Status sensorPoseFromHomogeneous(const Matrix4& T_oe, const SensorMount& mount, double translation_scale,
+                                        Matrix4& X_os) noexcept {
   if (!std::isfinite(translation_scale)) return Status::non_finite_input;
   if (!(translation_scale > 0)) return Status::invalid_argument;
   Matrix3 R;
   Vector3 p;
-  const Status s = poseFromColumnMajor(O_T_EE, R, p);
+  const Status s = poseFromHomogeneous(T_oe, R, p);
   if (s != Status::ok) return s;
   X_os.setIdentity();
   X_os.topLeftCorner<3, 3>() = R * mount.R_es;

@@ -3,8 +3,9 @@
 // Everything a robot adapter's real-time callback does, without the robot library, so it
 // is tested in CI: (1) take the latest tactile command (a sensor-frame body twist in the
 // library's units, mm/s and rad/s, plus a contact flag) with its stamp, (2) let the
-// CommandWatchdog decide whether it may pass, (3) convert it to libfranka's base-frame
-// EE-origin velocity through the current O_T_EE and the sensor mount (frames.hpp), (4)
+// CommandWatchdog decide whether it may pass, (3) convert it to the base-frame EE-origin
+// velocity (libfranka's O_dP_EE) through the current EE pose T_OE and the sensor mount
+// (frames.hpp), (4)
 // smooth it with the jerk-limited VelocitySmoother IN THE BASE FRAME, so the limits hold on
 // exactly the signal the robot receives, and (5) output O_dP_EE = [ṗ (m/s); ω (rad/s)].
 //
@@ -60,17 +61,17 @@ class CartesianVelocityPipeline {
   }
   const PipelineOptions& options() const noexcept { return options_; }
 
-  /// One control cycle. `O_T_EE`: the robot's current EE pose (column-major, metres);
+  /// One control cycle. `T_OE`: the robot's current EE pose (homogeneous, metres);
   /// `cmd`/`stamp`: the latest command from the channel (stamp.sequence == 0: none yet);
   /// `now_ns`: the same clock as the stamps. On success writes the command to `O_dP_EE`.
-  /// Errors (state and output unchanged): a bad pose (poseFromColumnMajor's Status), a
+  /// Errors (state and output unchanged): a bad pose (poseFromHomogeneous's Status), a
   /// non-finite twist in an accepted command (non_finite_input). On an error the caller
   /// should call stepStopping() for this cycle instead.
-  Status step(const std::array<double, 16>& O_T_EE, const TwistCommand& cmd, const ChannelStamp& stamp,
-              std::int64_t now_ns, std::array<double, 6>& O_dP_EE) noexcept {
+  Status step(const Matrix4& T_OE, const TwistCommand& cmd, const ChannelStamp& stamp, std::int64_t now_ns,
+              std::array<double, 6>& O_dP_EE) noexcept {
     Matrix3 R;
     Vector3 p;
-    const Status ps = poseFromColumnMajor(O_T_EE, R, p);
+    const Status ps = poseFromHomogeneous(T_OE, R, p);
     if (ps != Status::ok) return ps;
     const Eigen::Map<const Vector6> xi(cmd.twist_s.data());
     if (stamp.sequence != 0 && !xi.allFinite()) return Status::non_finite_input;
@@ -86,12 +87,12 @@ class CartesianVelocityPipeline {
   }
 
   /// Convenience: read the newest command from `channel` and step().
-  Status step(const std::array<double, 16>& O_T_EE, LatestValueChannel<TwistCommand>& channel,
-              std::int64_t now_ns, std::array<double, 6>& O_dP_EE) noexcept {
+  Status step(const Matrix4& T_OE, LatestValueChannel<TwistCommand>& channel, std::int64_t now_ns,
+              std::array<double, 6>& O_dP_EE) noexcept {
     TwistCommand cmd;
     ChannelStamp stamp;
     if (!channel.read(cmd, stamp)) stamp = ChannelStamp{};
-    return step(O_T_EE, cmd, stamp, now_ns, O_dP_EE);
+    return step(T_OE, cmd, stamp, now_ns, O_dP_EE);
   }
 
   /// A cycle that needs no pose: trips the watchdog (external) and ramps towards zero.

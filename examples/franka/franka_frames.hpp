@@ -1,0 +1,47 @@
+// franka_frames.hpp — libfranka's pose layout to the robot-agnostic real-time layer.
+//
+// libfranka gives the end-effector pose as RobotState::O_T_EE, a std::array<double, 16>
+// holding the homogeneous 4×4 T_OE column-major (element (r, c) at c*4 + r; metres). The
+// core (include/lieservo/realtime) takes an Eigen Matrix4; this header maps one to the other
+// and applies the core's checks. Header-only, Eigen + std only (no libfranka), so it is
+// tested in CI (tests/franka) where libfranka is not installed.
+#pragma once
+
+#include <lieservo/realtime/frames.hpp>
+#include <lieservo/status.hpp>
+
+#include <array>
+
+namespace lieservo::franka_frames {
+
+using realtime::Matrix3;
+using realtime::Matrix4;
+using realtime::SensorMount;
+using realtime::Vector3;
+using realtime::Vector6;
+
+/// O_T_EE as a homogeneous matrix (Eigen's default storage is column-major, as libfranka's).
+inline Matrix4 homogeneous(const std::array<double, 16>& O_T_EE) noexcept {
+  return Eigen::Map<const Matrix4>(O_T_EE.data());
+}
+
+/// A homogeneous matrix to libfranka's column-major array.
+inline std::array<double, 16> toColumnMajor(const Matrix4& M) noexcept {
+  std::array<double, 16> a{};
+  Eigen::Map<Matrix4>(a.data()) = M;
+  return a;
+}
+
+/// O_T_EE to a rotation and a translation, checked (realtime::poseFromHomogeneous).
+inline Status poseFromColumnMajor(const std::array<double, 16>& O_T_EE, Matrix3& R, Vector3& p,
+                                  double tol = realtime::kRotationTolerance) noexcept {
+  return realtime::poseFromHomogeneous(homogeneous(O_T_EE), R, p, tol);
+}
+
+/// X_OS = T_OE X_ES from O_T_EE (realtime::sensorPoseFromHomogeneous).
+inline Status sensorPoseFromColumnMajor(const std::array<double, 16>& O_T_EE, const SensorMount& mount,
+                                        double translation_scale, Matrix4& X_os) noexcept {
+  return realtime::sensorPoseFromHomogeneous(homogeneous(O_T_EE), mount, translation_scale, X_os);
+}
+
+}  // namespace lieservo::franka_frames
