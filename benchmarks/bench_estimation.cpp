@@ -1,6 +1,6 @@
 // benchmarks/bench_estimation.cpp — estimation and control: two-factor fusion
-// (alg:se3_data_fusion) with 1–10 iterations under each Jacobian policy, one full filter step
-// (alg:se3_bayes_filter: predict + correct, 5 fusion iterations), one controller step
+// (Algorithm 3, alg:se3_data_fusion) with 1–10 iterations under each Jacobian policy, one full filter step
+// (Algorithm 2, alg:se3_bayes_filter: predict + correct, 5 fusion iterations), one controller step
 // (TactileServoController, PushingController) and the whole estimate-and-control cycle
 // (fromTangentGaussian + filter step + servo step), SE(3), float and double.
 #include <benchmark/benchmark.h>

@@ -88,7 +88,7 @@ if out:
     print("Speed ratio NumPy / C++ (wall-clock medians, same machine, same load, double): " + "; ".join(out) + ".")
 PY
   echo
-  echo "#### Speed against error of the fusion (alg:se3_data_fusion)"
+  echo "#### Speed against error of the fusion (Algorithm 3, alg:se3_data_fusion)"
   echo
   echo "![speed against error](performance_pareto.png)"
   cat "$tmp/table.md"

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """benchmarks/numpy_baseline.py — a straightforward NumPy implementation of the SE(3) data
-fusion (alg:se3_data_fusion) and one discriminative-Bayes-filter step (alg:se3_bayes_filter),
+fusion (Algorithm 3, alg:se3_data_fusion) and one discriminative-Bayes-filter step (Algorithm 2, alg:se3_bayes_filter),
 as a reader of the paper would write it: 4x4 / 6x6 NumPy arrays, explicit inverses, the
 information-form normal equations.
 
@@ -131,7 +131,7 @@ def jac_inv(xi, order):
 
 
 def fuse(means, covs, order, iterations):
-    """alg:se3_data_fusion, information form, operating point starting at means[0]."""
+    """Algorithm 3 (alg:se3_data_fusion), information form, operating point starting at means[0]."""
     X = means[0].copy()
     infos = [np.linalg.inv(S) for S in covs]
     for _ in range(iterations):
@@ -149,7 +149,7 @@ def fuse(means, covs, order, iterations):
 
 
 def filter_step(S_prev, fil_mean, fil_cov, S_now, obs_mean, obs_cov, Q, order, iterations):
-    """alg:se3_bayes_filter: predict with T = S_now⁻¹ S_prev, then fuse(obs, belief)."""
+    """Algorithm 2 (alg:se3_bayes_filter): predict with T = S_now⁻¹ S_prev, then fuse(obs, belief)."""
     T = se3_inv(S_now) @ S_prev
     A = se3_Ad(T)
     bel_mean = T @ fil_mean

@@ -8,7 +8,7 @@ pytransform3d is not a dependency of lieservo: fetch it for the measurement only
         benchmarks/python_vs_pytransform3d.py
 
 Both fuse two SE(3) concentrated Gaussians with the closed-form J⁻¹ (Barfoot & Furgale's
-iteration; alg:se3_data_fusion). pytransform3d orders exponential coordinates rotation first,
+iteration; Algorithm 3 (alg:se3_data_fusion)). pytransform3d orders exponential coordinates rotation first,
 lieservo translation first (ξ = [ρ; φ]): covariances are permuted between the two. Reported:
 the largest difference of the fused mean (matrix entries) and covariance, and the median time
 per call of each, over 50 seeded input pairs.

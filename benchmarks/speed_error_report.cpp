@@ -1,5 +1,5 @@
 // benchmarks/speed_error_report.cpp — lieservo_speed_error_report: speed against error of the
-// two-factor fusion (alg:se3_data_fusion) on SE(3) for every configuration
+// two-factor fusion (Algorithm 3, alg:se3_data_fusion) on SE(3) for every configuration
 //     Jacobian policy ∈ {series N = 1..4, closed form} × iterations ∈ {1,2,3,5,10} × {float, double},
 // against a converged reference (closed-form Jacobian, iterated to a step of 1e-14, in long double).
 //

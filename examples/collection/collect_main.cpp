@@ -1,4 +1,4 @@
-// lieservo_collect — collect (or resume) a pose-and-shear training set (paper alg:data_collection).
+// lieservo_collect — collect (or resume) a pose-and-shear training set (paper Algorithm 1 (alg:data_collection)).
 //
 //   lieservo_collect --out DIR [--samples N] [--seed S] [--stop-after K] [--sort-by-depth]
 //                    [--r-max MM] [--z-min MM] [--z-max MM] [--phi-max DEG]

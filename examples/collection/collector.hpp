@@ -1,4 +1,4 @@
-// examples/collection/collector.hpp — training-data collection (paper alg:data_collection),
+// examples/collection/collector.hpp — training-data collection (paper Algorithm 1 (alg:data_collection)),
 // resumable after an interruption.
 //
 // For sample i = 1..N of a seeded plan (include/lieservo/sampling/contact_sampling.hpp), with
@@ -159,7 +159,7 @@ inline std::string metaJson(const CollectionConfig& c) {
       .str() + "\n";
 }
 
-/// Steps 1–4 of alg:data_collection: end at X_wf·X_par·X_perp.
+/// Steps 1–4 of Algorithm 1 (alg:data_collection): end at X_wf·X_par·X_perp.
 inline Status moveToContactPose(robot::RobotInterface& arm, const SE3d& X_wf, const ContactPose& p, double h) {
   using V6 = Eigen::Matrix<double, 6, 1>;
   V6 e;

@@ -2,7 +2,7 @@
 //
 // ImageSource is the seam for the real camera: an adapter (examples/adapters) grabs a
 // 640×480 frame, pre-processes it (grayscale, crop, median blur, adaptive threshold — paper
-// sec:pre_post_processing) and returns the processed 8-bit image; paramsJson() describes that
+// Section 3.1.3 (sec:pre_post_processing)) and returns the processed 8-bit image; paramsJson() describes that
 // processing (written as processed_image_params.json). For CI, SyntheticTactileSource renders
 // a binarised marker pattern that depends on the current sensor pose relative to the surface.
 #pragma once

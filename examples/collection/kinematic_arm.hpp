@@ -2,7 +2,7 @@
 //
 // moveTo sets the pose exactly, readPose returns it, commandVelocity integrates the body
 // twist (X ← X·exp(ξ dt)). No dynamics, no limits. Optionally records every moveTo target so
-// tests can check the collection motion sequence (alg:data_collection).
+// tests can check the collection motion sequence (Algorithm 1, alg:data_collection).
 #pragma once
 
 #include <robot/robot_interface.hpp>

@@ -230,7 +230,7 @@ Status FrankaAdapter::moveTo(const SE3d& X_ws_goal) {
           std::array<double, 6> out{};
           if (period.toMSec() == 0) return franka::CartesianVelocities(out);
           t += period.toSec();
-          // Body-frame error of the sensor, e = log(X_os⁻¹ X_os_goal) (eqn:local_tangent_space_error).
+          // Body-frame error of the sensor, e = log(X_os⁻¹ X_os_goal) (eq. 18, eqn:local_tangent_space_error).
           realtime::Matrix4 X_os_m;
           SE3d X_os;
           bool ok = franka_frames::sensorPoseFromColumnMajor(state.O_T_EE, mount_mm, 1e3, X_os_m) == Status::ok &&

@@ -1,6 +1,6 @@
 // examples/franka/franka_servo_example.cpp — pose-and-shear tactile servoing on a real Franka
-// arm with a TacTip: surface following (paper sec:surface_follow_exp) or single-arm pushing
-// (sec:single_arm_object_pushing_exp). See docs/hardware.md before running it.
+// arm with a TacTip: surface following (paper Section 5.5 (sec:surface_follow_exp)) or single-arm pushing
+// (Section 5.6, sec:single_arm_object_pushing_exp). See docs/hardware.md before running it.
 //
 //   franka_servo_example --robot 172.16.0.2 --task follow --camera 0
 //       --model-card models/model_card.json --preprocess processed_image_params.json

@@ -5,13 +5,16 @@ on, and record per-component factors in the model card (models.gdn.sigma_calibra
     /usr/bin/python3 examples/gdn/calibrate_sigma.py --run runs/gdn_holdout [--weights last] \
         [--card examples/gdn/models/model_card.json --write]
 
-The run must come from `train.py --holdout N`: its DIR/holdout.txt lists the training rows the
-network never saw. For a Gaussian, |error| <= sigma for 68.27 % of samples; the factor for
+The run must come from `train.py --holdout N`: its DIR/holdout.txt (and, for a run trained on
+train + val, DIR/holdout_val.txt) lists the rows the network never saw; the factors are
+measured on all of them together. For a Gaussian, |error| <= sigma for 68.27 % of samples; the factor for
 component j is the 68.27 % quantile of |error_j| / sigma_j over the held-out rows, so sigma_j
 times it covers 68.27 % of them. A factor > 1 means the network's sigma is too small.
 
-Why held-out training rows and not the validation set: the validation set is where we report
-the paper's tables; factors fitted there would flatter the filter results (Table 2).
+Why held-out rows and not the whole validation set: for a model trained on train only, the
+validation set is where we report the paper's tables, and factors fitted there would flatter
+the filter results (Table 2). A model trained on both sessions is calibrated on the rows it
+held out of both.
 
 --write stores the factors in the card's models.gdn entry, with where they came from. The C++
 adapter (ModelCard::sigma_scale) then multiplies the network's sigma by them. The factors may
@@ -74,29 +77,46 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     torch.set_num_threads(args.threads)
 
-    held_path = os.path.join(args.run, 'holdout.txt')
-    if not os.path.isfile(held_path):
-        raise SystemExit(f'{held_path}: not found (train the run with --holdout N)')
-    held = np.loadtxt(held_path, dtype=np.int64, ndmin=1)
+    from train import HOLDOUT_SEEDS, holdout_file
+    # The held-out rows of every session the run trained on (train only, or train and val).
+    held = {}
+    for split in HOLDOUT_SEEDS:
+        p = os.path.join(args.run, holdout_file(split))
+        if os.path.isfile(p):
+            held[split] = np.loadtxt(p, dtype=np.int64, ndmin=1)
+    if 'train' not in held:
+        raise SystemExit(f'{os.path.join(args.run, holdout_file("train"))}: not found '
+                         '(train the run with --holdout N)')
     ck_path = os.path.join(args.run, f'gdn_{args.weights}.pt')
     model, ck = load_ckpt(ck_path)
     if ck['kind'] != 'gdn':
         raise SystemExit(f'{ck_path}: a {ck["kind"]} checkpoint has no sigma')
 
-    tr = load_split(args.data or default_data_dir(), 'train', verbose=False)
-    y = L.to_train_units(L.xi_from_euler6(tr.euler6))[held]          # mm, deg
-    x = tr.images[held]
-    out = np.concatenate([torch_forward(model, x[i:i + 100]) for i in range(0, len(x), 100)])
-    err, sig = out[:, :6] - y, 1.0 / out[:, 6:].astype(np.float64)   # network units (mm, deg)
+    errs, sigs, n_total = {}, {}, {}
+    for split, rows in held.items():
+        sp = load_split(args.data or default_data_dir(), split, verbose=False)
+        n_total[split] = len(sp.images)
+        y = L.to_train_units(L.xi_from_euler6(sp.euler6))[rows]          # mm, deg
+        x = sp.images[rows]
+        out = np.concatenate([torch_forward(model, x[i:i + 100]) for i in range(0, len(x), 100)])
+        errs[split] = out[:, :6] - y                                     # network units (mm, deg)
+        sigs[split] = 1.0 / out[:, 6:].astype(np.float64)
+    err = np.concatenate(list(errs.values()))
+    sig = np.concatenate(list(sigs.values()))
     k = sigma_scale(err, sig)
     before, after = coverage_of(err, sig), coverage_of(err, sig * k)
-    print(f'{len(held)} held-out training images, {ck_path} (epoch {ck.get("epoch")})')
+    what = ' + '.join(f'{len(r)} {s}' for s, r in held.items())
+    print(f'held-out images: {what}; {ck_path} (epoch {ck.get("epoch")})')
     print('component      ' + ' '.join(f'{c:>7}' for c in COMP))
+    for split in held:
+        print(f'MAE {split:<10} ' + ' '.join(f'{v:7.3f}' for v in np.abs(errs[split]).mean(0)))
     print('MAE (mm, deg)  ' + ' '.join(f'{v:7.3f}' for v in np.abs(err).mean(0)))
     print('mean sigma     ' + ' '.join(f'{v:7.3f}' for v in sig.mean(0)))
     print('coverage       ' + ' '.join(f'{v:7.3f}' for v in before) + f'   (Gaussian {GAUSS_1SIGMA:.3f})')
     print('scale          ' + ' '.join(f'{v:7.3f}' for v in k))
     print('coverage after ' + ' '.join(f'{v:7.3f}' for v in after))
+    for split in held:
+        print(f'cov. {split:<9} ' + ' '.join(f'{v:7.3f}' for v in coverage_of(errs[split], sigs[split] * k)))
 
     if args.write:
         with open(args.card) as f:
@@ -111,9 +131,10 @@ def main(argv=None) -> int:
         card['models']['gdn']['sigma_calibration'] = {
             'scale': [round(float(v), 4) for v in k],
             'source': (f'quantile {GAUSS_1SIGMA:.4f} of |error|/sigma per component on the '
-                       f'{len(held)} training images held out of run {os.path.basename(os.path.normpath(args.run))} '
-                       f'({args.weights} weights, epoch {ck.get("epoch")}; trained on the other '
-                       f'{len(tr.images) - len(held)}); validation images not used'),
+                       f'images held out of run {os.path.basename(os.path.normpath(args.run))} '
+                       f'({what}; {args.weights} weights, epoch {ck.get("epoch")}; trained on the '
+                       'other ' + ' + '.join(f'{n_total[s] - len(r)} {s}' for s, r in held.items()) + ')'),
+            'held_out': {s: len(r) for s, r in held.items()},
             'held_out_coverage_before': [round(float(v), 4) for v in before],
             'held_out_coverage_after': [round(float(v), 4) for v in after],
             'run_command': hist.get('args'),

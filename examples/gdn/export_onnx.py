@@ -215,7 +215,7 @@ def main(argv=None):
                  'sigma_inv = softbound(.) into [1e-6, 1e6]' % (list(P_MU), list(P_SIGMA_INV))
                  if kind == 'gdn' else 'regression head: Dropout(0.1) -> Linear(F,6)')),
             'training': {
-                'loss': ('mean NLL (eqn gdn_mean_nll_loss_def, c omitted), labels mm/deg'
+                'loss': ('mean NLL (eq. 5, eqn:gdn_mean_nll_loss_def, c omitted), labels mm/deg'
                          if kind == 'gdn' else
                          'weighted MSE, alpha=%s on mm/rad == %s on mm/deg' %
                          (list(CNN_ALPHA_RAD), [round(a, 6) for a in CNN_ALPHA_DEG])),

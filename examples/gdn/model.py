@@ -40,7 +40,7 @@ def stable_softplus(z: torch.Tensor) -> torch.Tensor:
 
 
 def softbound(x: torch.Tensor, xmin: float = SIGMA_INV_MIN, xmax: float = SIGMA_INV_MAX) -> torch.Tensor:
-    """Paper eqn softbound_def: xmin + softplus(x - xmin) - softplus(x - xmax)."""
+    """Paper eq. 6 (eqn:softbound_def): xmin + softplus(x - xmin) - softplus(x - xmax)."""
     return xmin + stable_softplus(x - xmin) - stable_softplus(x - xmax)
 
 
@@ -102,14 +102,14 @@ class GDN(nn.Module):
 
 
 def gdn_nll(out: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
-    """Paper eqn gdn_mean_nll_loss_def without the constant c:
+    """Paper eq. 5 (eqn:gdn_mean_nll_loss_def) without the constant c:
     mean_i sum_j [ 0.5 (s_ij (y_ij - mu_ij))^2 - ln s_ij ]."""
     mu, s = out[:, :6], out[:, 6:]
     return (0.5 * (s * (y - mu)) ** 2 - torch.log(s)).sum(dim=1).mean()
 
 
 def weighted_mse(out: torch.Tensor, y: torch.Tensor, alpha: torch.Tensor) -> torch.Tensor:
-    """Paper eqn mse_loss_def: mean_i sum_j alpha_j (y_ij - xi_ij)^2."""
+    """Paper eq. 3 (eqn:mse_loss_def): mean_i sum_j alpha_j (y_ij - xi_ij)^2."""
     return (alpha * (y - out) ** 2).sum(dim=1).mean()
 
 

@@ -26,6 +26,7 @@ import torch
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 
+from augment import PRESETS as AUGMENT_PRESETS, augment  # noqa: E402
 from dataset import default_data_dir, load_split  # noqa: E402
 import labels as L  # noqa: E402
 from model import CNN_ALPHA_DEG, KERAS_BN, TORCH_BN, build, gdn_nll, keras_init_, weighted_mse  # noqa: E402
@@ -56,8 +57,17 @@ def evaluate(model, kind, X, Y, alpha, bs=32):
     return float(loss), mae.numpy().astype(float), out
 
 
-def holdout_indices(n: int, k: int, seed: int = 20221122) -> np.ndarray:
-    """The k training rows that --holdout keeps out: fixed seed, independent of --seed."""
+# One fixed seed per session, independent of --seed, so every run holds out the same rows.
+HOLDOUT_SEEDS = {'train': 20221122, 'val': 20221123}
+
+
+def holdout_file(split: str) -> str:
+    """The file (in a run directory) listing the rows of `split` that --holdout kept out."""
+    return 'holdout.txt' if split == 'train' else f'holdout_{split}.txt'
+
+
+def holdout_indices(n: int, k: int, seed: int = HOLDOUT_SEEDS['train']) -> np.ndarray:
+    """The k rows of a split that --holdout keeps out (sorted)."""
     if not 0 < k < n:
         raise SystemExit(f'--holdout {k}: must be between 1 and {n - 1}')
     return np.sort(np.random.RandomState(seed).permutation(n)[:k])
@@ -91,9 +101,16 @@ def main(argv=None):
                     help='weight initialisation: PyTorch defaults, or Keras (Glorot-uniform, zero bias)')
     ap.add_argument('--adam-eps', type=float, default=1e-8,
                     help='Adam epsilon (PyTorch default 1e-8; Keras 1e-7)')
+    ap.add_argument('--sessions', default='train',
+                    help='comma-separated splits (recording sessions) to train on: train, or '
+                    'train,val for the shipped model (needs --holdout; the held-out rows of '
+                    'every session then replace val as the monitored set)')
     ap.add_argument('--holdout', type=int, default=0,
-                    help='keep this many training images (a seeded random choice, listed in '
-                    'DIR/holdout.txt) out of training, for calibrate_sigma.py')
+                    help='keep this many images of each trained-on session (a seeded random '
+                    'choice, listed in DIR/holdout.txt for train and DIR/holdout_<split>.txt for '
+                    'the others) out of training, for calibrate_sigma.py')
+    ap.add_argument('--augment', choices=sorted(AUGMENT_PRESETS), default='none',
+                    help='training-image augmentation preset (augment.py); none = the paper')
     ap.add_argument('--threads', type=int, default=1)
     ap.add_argument('--seed', type=int, default=0)
     ap.add_argument('--out', required=True, help='run directory (checkpoints, history)')
@@ -118,18 +135,37 @@ def main(argv=None):
     os.makedirs(args.out, exist_ok=True)
     data = args.data or default_data_dir()
 
-    tr = load_split(data, 'train')
-    va = load_split(data, 'val')
-    Xtr = torch.from_numpy(tr.images)
-    Xva = torch.from_numpy(va.images)
-    Ytr = torch.from_numpy(L.to_train_units(L.xi_from_euler6(tr.euler6)).astype(np.float32))
-    if args.holdout:
-        # Rows are ordered by depth, so the held-out set must be a random choice, not a tail.
-        held = holdout_indices(len(Xtr), args.holdout)
-        keep = np.setdiff1d(np.arange(len(Xtr)), held)
-        np.savetxt(os.path.join(args.out, 'holdout.txt'), held, fmt='%d')
-        Xtr, Ytr = Xtr[keep], Ytr[keep]
-    Yva = torch.from_numpy(L.to_train_units(L.xi_from_euler6(va.euler6)).astype(np.float32))
+    sessions = [v for v in args.sessions.split(',') if v]
+    if not sessions or len(set(sessions)) != len(sessions) or any(v not in ('train', 'val') for v in sessions):
+        raise SystemExit(f'--sessions {args.sessions}: a list of distinct splits from train, val')
+    if 'val' in sessions and not args.holdout:
+        raise SystemExit('--sessions with val needs --holdout N: the held-out rows are the monitored set')
+
+    def xy(split):
+        s = load_split(data, split)
+        y = L.to_train_units(L.xi_from_euler6(s.euler6)).astype(np.float32)
+        return torch.from_numpy(s.images), torch.from_numpy(y)
+
+    parts, held_parts = [], []
+    for split in sessions:
+        X, Y = xy(split)
+        if args.holdout:
+            # Rows are ordered by depth, so the held-out set must be a random choice, not a tail.
+            held = holdout_indices(len(X), args.holdout, seed=HOLDOUT_SEEDS[split])
+            keep = np.setdiff1d(np.arange(len(X)), held)
+            np.savetxt(os.path.join(args.out, holdout_file(split)), held, fmt='%d')
+            held_parts.append((X[held], Y[held]))
+            X, Y = X[keep], Y[keep]
+        parts.append((X, Y))
+    Xtr = torch.cat([p[0] for p in parts])
+    Ytr = torch.cat([p[1] for p in parts])
+    if 'val' in sessions:   # monitor the held-out rows of every session
+        Xva = torch.cat([p[0] for p in held_parts])
+        Yva = torch.cat([p[1] for p in held_parts])
+        monitor = 'held-out rows of ' + '+'.join(sessions)
+    else:
+        Xva, Yva = xy('val')
+        monitor = 'val'
     alpha = torch.tensor(CNN_ALPHA_DEG, dtype=torch.float32)
 
     bn = KERAS_BN if args.bn == 'keras' else TORCH_BN
@@ -139,6 +175,8 @@ def main(argv=None):
     n_par = sum(p.numel() for p in model.parameters())
     opt = torch.optim.Adam(model.parameters(), lr=1e-5, eps=args.adam_eps)
     rng = np.random.RandomState(args.seed)
+    aug = AUGMENT_PRESETS[args.augment]
+    aug_gen = torch.Generator().manual_seed(args.seed + 1)
     n = len(Xtr)
     steps = n // args.batch + (1 if n % args.batch else 0)
     if args.max_batches:
@@ -146,7 +184,8 @@ def main(argv=None):
     print(f'model={args.model} channels={channels} params={n_par} train={n} val={len(Xva)} '
           f'batch={args.batch} steps/epoch={steps} e_max={e_max} threads={args.threads} '
           f'seed={args.seed} bn={args.bn}{tuple(bn)} init={args.init} adam_eps={args.adam_eps:g} '
-          f'holdout={args.holdout}', flush=True)
+          f'holdout={args.holdout} augment={args.augment} sessions={"+".join(sessions)} '
+          f'monitor={monitor}', flush=True)
 
     hist = []
     best = (math.inf, -1)
@@ -177,7 +216,8 @@ def main(argv=None):
             lr = lrpd(ep + b / steps, e_max, lr1=args.lr_max)
             for g in opt.param_groups:
                 g['lr'] = lr
-            out = model(Xtr[idx])
+            xb = Xtr[idx] if aug is None else augment(Xtr[idx], aug, aug_gen)
+            out = model(xb)
             loss = gdn_nll(out, Ytr[idx]) if args.model == 'gdn' else weighted_mse(out, Ytr[idx], alpha)
             opt.zero_grad(set_to_none=True)
             loss.backward()
@@ -216,6 +256,7 @@ def main(argv=None):
     model.load_state_dict(ck['state_dict'])
     vloss, vmae, _ = evaluate(model, args.model, Xva, Yva, alpha)
     summary = dict(kind=args.model, channels=channels, params=n_par, seed=args.seed,
+                   sessions=sessions, monitor=monitor, augment=args.augment,
                    epochs_run=len(hist), e_max=e_max, best_epoch=best[1],
                    seconds_per_epoch=float(np.mean(ep_times)) if ep_times else None,
                    total_seconds=time.time() - t_start, threads=args.threads,

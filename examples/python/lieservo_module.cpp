@@ -111,7 +111,7 @@ py::class_<G> bindGroup(py::module_& m, const char* name, const char* doc) {
       .def_static("hat", [](const Tangent& xi) { return Matrix(G::hat(xi)); }, py::arg("xi"))
       .def_static("vee", [](const Matrix& M) { return Tangent(G::vee(M)); }, py::arg("M"))
       .def_static("left_jacobian", [](const Tangent& xi) { return matrix2d(Jacobian(G::leftJacobian(xi))); },
-                  py::arg("xi"), "J(ξ), closed form (eqn:se3_left_jacobian for SE(3)).")
+                  py::arg("xi"), "J(ξ), closed form (eq. 33, eqn:left_jacobian_def).")
       .def_static("left_jacobian_inverse",
                   [](const Tangent& xi) { return matrix2d(Jacobian(G::leftJacobianInverse(xi))); }, py::arg("xi"))
       .def("matrix", [](const G& X) { return Matrix(X.matrix()); }, "The homogeneous (or rotation) matrix.")
@@ -215,7 +215,7 @@ void bindEstimation(py::module_& m, const std::string& suffix) {
       },
       py::arg("mu"), py::arg("sigma"),
       "A network's (μ, σ) as a concentrated Gaussian: X̄ = exp(μ^), Σ = J(μ) diag(σ²) J(μ)ᵀ "
-      "(eq:se3_inverse_transform).");
+      "(eq. 14, eq:se3_inverse_transform).");
 
   m.def(
       ("fuse" + suffix).c_str(),
@@ -241,13 +241,13 @@ void bindEstimation(py::module_& m, const std::string& suffix) {
       },
       py::arg("a"), py::arg("b"), py::arg("max_iterations") = 5, py::arg("tolerance") = 0.0,
       py::arg("jacobian") = "paper",
-      "The normalised product of two concentrated Gaussians (alg:se3_data_fusion). Returns a dict: "
+      "The normalised product of two concentrated Gaussians (Algorithm 3, alg:se3_data_fusion). Returns a dict: "
       "fused, iterations, step_norm, max_rotation_separation.");
 
   using Filter = DiscriminativeBayesFilter<G, PaperJacobian>;
   const std::string fname = "DiscriminativeBayesFilter" + suffix;
   py::class_<Filter>(m, fname.c_str(),
-                     "The discriminative Bayes filter (alg:se3_bayes_filter), series J⁻¹ N = 2 as the paper.")
+                     "The discriminative Bayes filter (Algorithm 2, alg:se3_bayes_filter), series J⁻¹ N = 2 as the paper.")
       .def(py::init([](const py::object& process_noise, int max_iterations, double tolerance, bool gating,
                        double gate_probability) {
              typename Filter::Options o;
@@ -276,7 +276,7 @@ void bindEstimation(py::module_& m, const std::string& suffix) {
       .def(
           "predict",
           [](Filter& f, const G& T_bar) { check(f.predict(T_bar), "predict"); }, py::arg("T_bar"),
-          "The prediction alone, with the relative motion T̄_k (eqn:bayes_filter_prediction).")
+          "The prediction alone, with the relative motion T̄_k (eq. 12, eqn:bayes_filter_prediction).")
       .def(
           "correct",
           [](Filter& f, const Gaussian& observation) {
@@ -317,7 +317,7 @@ PaperGainConvention convention(double control_period) {
 /// The paper's controllers (Tables 6-9) on SE(3), double.
 void bindControl(py::module_& m) {
   using Pid = MimoPid<double, 6>;
-  py::class_<Pid>(m, "MimoPid", "The 6-channel PID with feedforward (eqn:pid_control), diagonal gains.")
+  py::class_<Pid>(m, "MimoPid", "The 6-channel PID with feedforward (eq. 19, eqn:ff_fb_pid_control), diagonal gains.")
       .def(py::init([](const Vec6& kp, const Vec6& ki, const Vec6& kd, double integral_clip, double output_clip,
                        double smoothing) {
              Pid::Options o = Pid::Options::diagonal(kp, ki, kd);
@@ -342,7 +342,7 @@ void bindControl(py::module_& m) {
 
   using Servo = TactileServoController<SE3d>;
   py::class_<Servo>(m, "TactileServoController",
-                    "Feedforward-feedback PID in the tangent space (sec:servoing_controller).")
+                    "Feedforward-feedback PID in the tangent space (Section 3.3.2, sec:servoing_controller).")
       .def(py::init([](const std::string& preset, double control_period) {
              const PaperGainConvention c = convention(control_period);
              Servo::Options o;
@@ -385,7 +385,7 @@ void bindControl(py::module_& m) {
         "u_s'2 = (speed cos θ, speed sin θ, 0, 0, 0, 0) for a heading θ (rad), speed in mm/s.");
 
   using Push = PushingController<double>;
-  py::class_<Push>(m, "PushingController", "Tactile pushing towards a target (sec:pushing_controller, Table 8).")
+  py::class_<Push>(m, "PushingController", "Tactile pushing towards a target (Section 3.3.3, sec:pushing_controller, Table 8).")
       .def(py::init([](const std::string& configuration, const SE3d& target, double control_period) {
              PushingConfiguration k;
              if (configuration == "single_arm")

@@ -36,7 +36,7 @@ def read_split(split_dir, n):
     with open(os.path.join(split_dir, "targets.csv"), newline="") as f:
         for row in csv.DictReader(f):
             # The contact pose X_fs as extrinsic x-y-z Euler angles (mm, deg): shear x, y, depth
-            # z, tilts α, β, twist γ (paper sec:pre_post_processing).
+            # z, tilts α, β, twist γ (paper Section 3.1.3 (sec:pre_post_processing)).
             e = np.array([float(row[k]) for k in
                           ("shear_x", "shear_y", "pose_z", "pose_Rx", "pose_Ry", "shear_Rz")])
             labels.append(ls.SE3.from_euler_xyz6_degrees(e).inverse().log())
@@ -80,7 +80,7 @@ def report_units(xi):
 # ---- 3. the filter over the sequence ----------------------------------------------------------
 def filter_sequence(labels, observations, sigma_psi, rng):
     """The Table 2 experiment: the sensor's motion between images k−1 and k is the true relative
-    motion X_k X_{k−1}⁻¹ disturbed by exp(ψ^), ψ ~ N(0, σψ² 1) (eqn:se3_filter_exp_state_trans_model);
+    motion X_k X_{k−1}⁻¹ disturbed by exp(ψ^), ψ ~ N(0, σψ² 1) (eq. 23, eqn:se3_filter_exp_state_trans_model);
     the filter's process noise is the same Σψ. Returns the filtered means' tangent vectors."""
     sd = np.array([sigma_psi] * 3 + [sigma_psi * DEG] * 3)
     f = ls.DiscriminativeBayesFilter(process_noise=np.diag(sd ** 2))

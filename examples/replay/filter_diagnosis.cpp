@@ -11,8 +11,8 @@
 // starting with '#' are comments.
 // --synthetic SEED replaces each μ by ξ + σ ⊙ n, n ~ N(0, 1): observations whose σ is exactly
 // right, so any harm the filter does with them is the filter's, not the network's.
-// The experiment is lieservo_replay's (replayFilter, seed 1): Tₖ = exp(ψₖ^) Xₖ Xₖ₋₁⁻¹ (eqn:se3_filter_exp_state_trans_model),
-// ψₖ ~ N(0, σψ² 1) with σψ in mm and degrees (eqn:se3_filter_exp_state_trans_cov), Σφ = Σψ,
+// The experiment is lieservo_replay's (replayFilter, seed 1): Tₖ = exp(ψₖ^) Xₖ Xₖ₋₁⁻¹ (eq. 23, eqn:se3_filter_exp_state_trans_model),
+// ψₖ ~ N(0, σψ² 1) with σψ in mm and degrees (eq. 24, eqn:se3_filter_exp_state_trans_cov), Σφ = Σψ,
 // the paper's 5 fusion iterations (or --converged: up to 50, tolerance 1e-12).
 // Exit codes: 0 ok; 1 bad input, or --expect-improvement and the smallest σψ did not lower every
 // component's MAE; 2 bad usage.
@@ -115,7 +115,7 @@ BinMae filterMae(const std::vector<Row>& rows, double sig, bool converged, int& 
   std::vector<ConcentratedGaussian<SE3d>> obs(rows.size());
   for (std::size_t k = 0; k < rows.size(); ++k) {
     for (int j = 0; j < 6; ++j) samples[k].xi[static_cast<std::size_t>(j)] = rows[k].xi(j);
-    if (lieservo::fromTangentGaussian(rows[k].mu, rows[k].sigma, obs[k]) != Status::ok)  // eq:se3_inverse_transform
+    if (lieservo::fromTangentGaussian(rows[k].mu, rows[k].sigma, obs[k]) != Status::ok)  // eq. 14 (eq:se3_inverse_transform)
       throw std::runtime_error("row " + std::to_string(k) + ": observation rejected");
   }
   lieservo::FusionOptions<double> fusion;  // the paper's fixed 5 iterations

@@ -216,7 +216,7 @@ FilterRun replayFilter(const std::vector<Sample>& samples, const std::vector<Con
     X[i] = SE3d::exp(xi);
     actual[i] = toReportUnits(samples[i].xi);
   }
-  // Σψ = σψ² 1 (eqn:se3_filter_exp_state_trans_cov), σψ in mm and deg -> mm and rad.
+  // Σψ = σψ² 1 (eq. 24, eqn:se3_filter_exp_state_trans_cov), σψ in mm and deg -> mm and rad.
   SE3d::Tangent sd;
   sd << sig, sig, sig, sig * kDeg2Rad, sig * kDeg2Rad, sig * kDeg2Rad;
   DiscriminativeBayesFilter<SE3d>::Options fo;
@@ -233,7 +233,7 @@ FilterRun replayFilter(const std::vector<Sample>& samples, const std::vector<Con
     if (k == 0) {
       s = filter.step(SE3d(), obs[0]);  // the first step initialises
     } else {
-      // T_k = exp(ψ_k^) X_k X_{k-1}^{-1}  (eqn:se3_filter_exp_state_trans_model)
+      // T_k = exp(ψ_k^) X_k X_{k-1}^{-1}  (eq. 23, eqn:se3_filter_exp_state_trans_model)
       SE3d::Tangent psi;
       for (int j = 0; j < 6; ++j) psi(j) = sd(j) * normal(rng);
       const SE3d T = SE3d::exp(psi) * X[k] * X[k - 1].inverse();
@@ -426,7 +426,7 @@ ReplayResults runReplay(const ReplayOptions& opt) {
   auto observations = [&](const std::vector<ad::Prediction>& pred) {
     std::vector<ConcentratedGaussian<SE3d>> obs(n);
     for (std::size_t i = 0; i < n; ++i) {
-      const Status s = ad::toObservation(pred[i], obs[i]);  // eq:se3_inverse_transform
+      const Status s = ad::toObservation(pred[i], obs[i]);  // eq. 14 (eq:se3_inverse_transform)
       if (s != Status::ok) throw std::runtime_error(samples[i].image + ": observation: " + describe(s));
     }
     return obs;
@@ -645,18 +645,18 @@ std::string ReplayResults::markdown(const ReplayOptions& o, const std::string& c
   for (std::size_t j = 0; j < 6; ++j) met += gdn_mae[j] <= PaperTables::gdn_mae[j] ? 1 : 0;
   md << "\nTarget \"GDN MAE ≤ the paper's GDN row\": met for " << met << " of 6 components.\n";
   md << "\nLosses use the paper's units (mm, rad): CNN weighted MSE with α = (1,1,1,100,100,100); GDN mean NLL "
-        "(eqn:gdn_mean_nll_loss_def) without and with the constant c = 3 ln 2π. Mean predicted GDN σ: ";
+        "(eq. 5, eqn:gdn_mean_nll_loss_def) without and with the constant c = 3 ln 2π. Mean predicted GDN σ: ";
   for (std::size_t j = 0; j < 6; ++j) md << (j ? ", " : "") << f3(gdn_mean_sigma[j], precOf(j));
   md << " (mm, deg); fraction of |error| ≤ σ: ";
   for (std::size_t j = 0; j < 6; ++j) md << (j ? ", " : "") << f3(gdn_coverage[j], 2);
   md << " (0.68 for a calibrated Gaussian).\n\n";
 
-  md << "## Table 2 — SE(3) Bayes filter over the sequence (tab:bayes_filter_results)\n\n";
-  md << "Tₖ = exp(ψₖ^) Xₖ Xₖ₋₁⁻¹ with Xₖ the label poses (eqn:se3_filter_exp_state_trans_model), "
-        "ψₖ ~ N(0, σψ² 1) (eqn:se3_filter_exp_state_trans_cov), σψ in mm for ρ and in **degrees** for φ "
+  md << "## Table 2 — SE(3) Bayes filter over the sequence (Table 2, tab:bayes_filter_results)\n\n";
+  md << "Tₖ = exp(ψₖ^) Xₖ Xₖ₋₁⁻¹ with Xₖ the label poses (eq. 23, eqn:se3_filter_exp_state_trans_model), "
+        "ψₖ ~ N(0, σψ² 1) (eq. 24, eqn:se3_filter_exp_state_trans_cov), σψ in mm for ρ and in **degrees** for φ "
         "(converted to radians before the library), Σφ = Σψ; filter `lieservo::DiscriminativeBayesFilter<SE3d>` "
-        "(alg:se3_bayes_filter, fusion alg:se3_data_fusion, 5 iterations), observations from "
-        "eq:se3_inverse_transform; ψ seed " << o.seed << ". Cells: ours [paper]; second table: MAE relative to σψ = ∞.\n\n";
+        "(Algorithm 2, alg:se3_bayes_filter, fusion Algorithm 3 (alg:se3_data_fusion), 5 iterations), observations from "
+        "eq. 14 (eq:se3_inverse_transform); ψ seed " << o.seed << ". Cells: ours [paper]; second table: MAE relative to σψ = ∞.\n\n";
   md << "| MAE | σψ = ∞ |";
   for (const auto& r : filter) md << " σψ = " << r.sigma_psi << " |";
   md << "\n|---|---|";

@@ -1,12 +1,12 @@
 // examples/replay/replay.hpp — reproduce the paper's Tables 1 and 2 on a split of the real
-// TacTip data, val/ by default (paper sec:nn_pose_shear_estimate_exp, sec:se3_bayes_filter_exp).
+// TacTip data, val/ by default (paper Section 5.2 (sec:nn_pose_shear_estimate_exp), Section 5.3 (sec:se3_bayes_filter_exp)).
 //
 //   Table 1 (tab:nn_pose_shear_estimate_results): per-component MAE of the CNN-regression
 //     and GDN estimates of ξ = log(X_fs⁻¹)^∨ (mm, deg), and their losses.
 //   Table 2 (tab:bayes_filter_results): the GDN estimates, taken as a sequence in file
-//     order, through lieservo::DiscriminativeBayesFilter<SE3d> (alg:se3_bayes_filter) with
-//     the state dynamics Tₖ = exp(ψₖ^) Xₖ Xₖ₋₁⁻¹ (eqn:se3_filter_exp_state_trans_model),
-//     ψₖ ~ N(0, σψ² 1) (eqn:se3_filter_exp_state_trans_cov) and Σφ = Σψ; σψ per component
+//     order, through lieservo::DiscriminativeBayesFilter<SE3d> (Algorithm 2, alg:se3_bayes_filter) with
+//     the state dynamics Tₖ = exp(ψₖ^) Xₖ Xₖ₋₁⁻¹ (eq. 23, eqn:se3_filter_exp_state_trans_model),
+//     ψₖ ~ N(0, σψ² 1) (eq. 24, eqn:se3_filter_exp_state_trans_cov) and Σφ = Σψ; σψ per component
 //     in mm and DEGREES, converted to radians for the rotational components.
 //
 // Use: ReplayResults r = runReplay(options); r.markdown(options) → docs/results.md.

@@ -4,7 +4,7 @@
 // (examples/franka). Poses are the *sensor* frame {s} (tip centre, z out of the tip)
 // in the robot's work frame {w}; translation in mm, rotation in radians. Twists are
 // body twists in the current sensor frame, ξ = [v; ω] (mm/s, rad/s), the same
-// frame as the controllers' output (paper Section sec:servoing_controller).
+// frame as the controllers' output (paper Section 3.3.2 (sec:servoing_controller)).
 #pragma once
 
 #include <lieservo/groups/se3.hpp>

@@ -2,7 +2,7 @@
 //
 // A sensor pose is a rigid motion X ∈ SE(3): a rotation C and a translation r. Small changes
 // live in the tangent space as 6-vectors ξ = [ρ; φ] (translation first, mm and radians), and
-//   X = exp(ξ^)        maps a tangent vector to the group (paper sec:math_prelim, Appendix A),
+//   X = exp(ξ^)        maps a tangent vector to the group (paper Appendix A (sec:math_prelim), Appendix A),
 //   ξ = ln(X)^∨        maps back (its inverse, for rotation angles below π).
 // Everything below is checked numerically; the program exits with status 1 if a check fails.
 //

@@ -1,11 +1,11 @@
 // Tutorial 02 — concentrated Gaussians on SE(3) and their fusion.
 //
 // An uncertain pose is a concentrated Gaussian: a mean X̄ and a covariance Σ of a small LEFT
-// perturbation ε, X = exp(ε^) X̄ with ε ~ N(0, Σ) (paper eqn:se3_random_variable_2, Eq. (35)).
+// perturbation ε, X = exp(ε^) X̄ with ε ~ N(0, Σ) (paper eq. 35 (eqn:se3_random_variable_2), Eq. (35)).
 // A GDN gives its estimate in the tangent space instead: a mean μ and standard deviations σ of
 // ξ = ln(X)^∨.
-// fromTangentGaussian converts one into the other (eq:se3_inverse_transform), and fuse()
-// multiplies two such beliefs into one (alg:se3_data_fusion), iterating because the product is
+// fromTangentGaussian converts one into the other (eq. 14, eq:se3_inverse_transform), and fuse()
+// multiplies two such beliefs into one (Algorithm 3, alg:se3_data_fusion), iterating because the product is
 // only Gaussian to first order around an operating point.
 // The program checks what it claims and exits with status 1 if a check fails.
 //

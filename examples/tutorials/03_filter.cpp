@@ -1,12 +1,12 @@
 // Tutorial 03 — the SE(3) discriminative Bayesian filter, step by step, of
-// Lloyd & Lepora, "Pose-and-shear-based tactile servoing" (Section sec:se3_bayes_filter,
-// Algorithm alg:se3_bayes_filter, Appendices B and C).
+// Lloyd & Lepora, "Pose-and-shear-based tactile servoing" (Section 3.2 (sec:se3_bayes_filter),
+// Algorithm 2 (alg:se3_bayes_filter), Appendices B and C).
 //
 // The story. A tactile sensor touches a surface. A neural network (the paper's Gaussian density
 // network, GDN) looks at each tactile image and outputs, for the six pose-and-shear components
 //     (x, y, z in mm; α, β, γ rotations),
 // a mean μ_k (exponential coordinates of SE(3)) and a standard deviation σ_k per component.
-// Single images are noisy (Table tab:nn_pose_shear_estimate_results: MAE ≈ 0.43, 0.42, 0.12 mm
+// Single images are noisy (Table 1 (tab:nn_pose_shear_estimate_results): MAE ≈ 0.43, 0.42, 0.12 mm
 // and 0.45°, 0.64°, 1.16°). Because consecutive images see almost the same contact, and the
 // robot knows how it moved the sensor, we can combine the estimates over time: that is the
 // filter. This program
@@ -63,21 +63,21 @@ int main() {
 
   // ---- The noise levels ---------------------------------------------------------------------
   // GDN-like observation noise: per-component σ close to the paper's single-image errors
-  // (Table tab:nn_pose_shear_estimate_results). Each estimate also varies in quality: the GDN
+  // (Table 1 (tab:nn_pose_shear_estimate_results)). Each estimate also varies in quality: the GDN
   // reports a different σ for every image, so we scale σ per image by a random factor.
   Tangent sigma_obs;
   sigma_obs << 0.4, 0.4, 0.12, 0.5 * kDeg, 0.6 * kDeg, 1.2 * kDeg;
   // How much the contact really changes between steps beyond the known sensor motion: the
-  // state-dynamics noise ψ_k (eqn:se3_filter_exp_state_trans_model, eqn:se3_filter_exp_state_trans_cov),
+  // state-dynamics noise ψ_k (eq. 23, eqn:se3_filter_exp_state_trans_model, eq. 24 (eqn:se3_filter_exp_state_trans_cov)),
   // here σψ = 0.05 (mm, and degrees converted to radians).
   Tangent sigma_psi;
   sigma_psi << 0.05, 0.05, 0.05, 0.05 * kDeg, 0.05 * kDeg, 0.05 * kDeg;
 
   // ---- Step 0: configure the filter -------------------------------------------------------
-  // Σφ, the state-dynamics noise covariance of the filter (eqn:state_dynamics_noise_cov). As
+  // Σφ, the state-dynamics noise covariance of the filter (eq. 16, eqn:state_dynamics_noise_cov). As
   // in the paper's filter experiment, we set it to the true dynamics noise: Σφ = Σψ.
   // The correction step uses the paper's data fusion: 5 iterations (real-time mode) and the
-  // second-order inverse-Jacobian series (PaperJacobian) of alg:se3_data_fusion.
+  // second-order inverse-Jacobian series (PaperJacobian) of Algorithm 3 (alg:se3_data_fusion).
   DiscriminativeBayesFilter<G>::Options options;
   options.process_noise = sigma_psi.array().square().matrix().asDiagonal();
   options.fusion.max_iterations = 5;
@@ -107,12 +107,12 @@ int main() {
   };
 
   // ---- Step 1: initialise from the first observation --------------------------------------
-  // The GDN output (μ_0, σ_0) becomes a concentrated Gaussian on SE(3) (eq:se3_inverse_transform):
+  // The GDN output (μ_0, σ_0) becomes a concentrated Gaussian on SE(3) (eq. 14, eq:se3_inverse_transform):
   //     X̄_0^obs = exp(μ_0^),   Σ_0^obs = J(μ_0) diag(σ_0²) J(μ_0)ᵀ,
   // because the library represents uncertainty as a LEFT perturbation, X = exp(ε^) X̄
-  // (eqn:se3_random_variable_2), while the network's σ is in exponential coordinates
-  // (eqn:glob_tangent_space_pdf, inverted). The filter's first step is the initialisation,
-  // fil_0 = bel_0 = obs_0 (alg:se3_bayes_filter); every later step predicts and corrects.
+  // (eq. 35, eqn:se3_random_variable_2), while the network's σ is in exponential coordinates
+  // (eq. 38, eqn:glob_tangent_space_pdf, inverted). The filter's first step is the initialisation,
+  // fil_0 = bel_0 = obs_0 (Algorithm 2, alg:se3_bayes_filter); every later step predicts and corrects.
   Tangent mu, sigma;
   gdnEstimate(X_true, mu, sigma);
   Gaussian obs;
@@ -136,14 +136,14 @@ int main() {
 
     // -- the network looks at the new tactile image --
     gdnEstimate(X_true, mu, sigma);
-    if (fromTangentGaussian(mu, sigma, obs) != Status::ok) return 1;  // eq:se3_inverse_transform
+    if (fromTangentGaussian(mu, sigma, obs) != Status::ok) return 1;  // eq. 14 (eq:se3_inverse_transform)
 
-    // ---- Step 2: one filter step (alg:se3_bayes_filter) -----------------------------------
-    // Prediction (eqn:bayes_filter_prediction, eqn:se3_rv_probabilistic_transform_2): the
+    // ---- Step 2: one filter step (Algorithm 2, alg:se3_bayes_filter) -----------------------------------
+    // Prediction (eq. 12, eqn:bayes_filter_prediction, eq. 41 (eqn:se3_rv_probabilistic_transform_2)): the
     // filter computes T̄_k = (X_k^sens)⁻¹ X_{k−1}^sens from the sensor poses and moves the belief:
     //     X̄_k^bel = T̄_k X̄_{k−1}^fil,   Σ_k^bel = Ad(T̄_k) Σ_{k−1}^fil Ad(T̄_k)ᵀ + Σφ.
-    // Correction (eqn:bayes_filter_correction): the belief is fused with the observation by
-    // the iterative SE(3) data fusion (alg:se3_data_fusion, Appendix C), which finds the
+    // Correction (eq. 13, eqn:bayes_filter_correction): the belief is fused with the observation by
+    // the iterative SE(3) data fusion (Algorithm 3, alg:se3_data_fusion, Appendix C), which finds the
     // normalised product of the two concentrated Gaussians.
     const Status s = filter.step(X_sens, obs);
     if (s != Status::ok) {

@@ -1,6 +1,6 @@
 // Tutorial 05 — speed against error: how many fusion iterations fit in a 1 kHz cycle?
 //
-// The filter's correction fuses two concentrated Gaussians by iterating (alg:se3_data_fusion);
+// The filter's correction fuses two concentrated Gaussians by iterating (Algorithm 3, alg:se3_data_fusion);
 // the paper runs a fixed 5 iterations so that every cycle takes the same time. Fewer
 // iterations are faster but leave the answer further from the converged product. This program
 // measures both on the same 1000 random pairs of SE(3) beliefs (GDN-like spreads):

@@ -1,4 +1,4 @@
-// fusion_error_table.cpp — how accurate is the paper's data fusion (alg:se3_data_fusion) with a
+// fusion_error_table.cpp — how accurate is the paper's data fusion (Algorithm 3, alg:se3_data_fusion) with a
 // truncated inverse-Jacobian series and a fixed number of iterations?
 //
 // For random pairs of SE(3) concentrated Gaussians with realistic tactile uncertainties

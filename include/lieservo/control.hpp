@@ -1,5 +1,5 @@
 // lieservo/control.hpp — umbrella header of the control layer (paper:
-// sec:se3_feedforward_feedback_control): PID with feedforward, tactile servoing, pushing,
+// Section 3.3 (sec:se3_feedforward_feedback_control)): PID with feedforward, tactile servoing, pushing,
 // dual-arm leader/follower and the paper's controller presets (Tables 6–9).
 #pragma once
 

@@ -1,5 +1,5 @@
 // lieservo/estimation.hpp — estimation on Lie groups: concentrated Gaussians, data fusion
-// (alg:se3_data_fusion) and the discriminative Bayesian filter (alg:se3_bayes_filter).
+// (Algorithm 3, alg:se3_data_fusion) and the discriminative Bayesian filter (Algorithm 2, alg:se3_bayes_filter).
 // See docs/estimation.md.
 #pragma once
 

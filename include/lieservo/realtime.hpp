@@ -1,6 +1,6 @@
 // lieservo/realtime.hpp — the real-time layer between the controllers and a robot's
 // 1 kHz command loop (Eigen + std only; noexcept; allocation-free per step).
-//   velocity_smoother.hpp    jerk-limited Cartesian twist smoother (paper sec:software)
+//   velocity_smoother.hpp    jerk-limited Cartesian twist smoother (paper Section 4.4 (sec:software))
 //   latest_value_channel.hpp lock-free latest-value hand-over between threads
 //   watchdog.hpp             command-timeout / contact-loss stop policy
 //   frames.hpp               sensor body twist → base-frame EE velocity (libfranka O_dP_EE)

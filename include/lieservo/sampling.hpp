@@ -1,5 +1,5 @@
 // lieservo/sampling.hpp — umbrella header for training-data sampling
-// (paper sec:surface_contact_poses, sec:data_collection).
+// (paper Section 3.1.1 (sec:surface_contact_poses), Section 3.1.2 (sec:data_collection)).
 #pragma once
 
 #include <lieservo/sampling/contact_sampling.hpp>

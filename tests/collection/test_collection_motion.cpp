@@ -1,4 +1,4 @@
-// The collection motion (alg:data_collection) on the kinematic stand-in arm, the synthetic
+// The collection motion (Algorithm 1, alg:data_collection) on the kinematic stand-in arm, the synthetic
 // image source and the PNG encoder — in process.
 #include <catch2/catch.hpp>
 

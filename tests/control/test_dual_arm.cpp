@@ -1,4 +1,4 @@
-// DualArmPushing (sec:single_dual_arm_controllers, sec:dual_arm_object_pushing_exp):
+// DualArmPushing (Section 3.3.4, sec:single_dual_arm_controllers, Section 5.7 (sec:dual_arm_object_pushing_exp)):
 // equivalence with hand-wired filters and controllers, a closed loop with both filters
 // pushing a rigid object (tall-object references), termination, and the Status contract.
 #include <catch2/catch.hpp>

@@ -1,4 +1,4 @@
-// MimoPid / SisoPid (eqn:ff_fb_pid_control): each term against hand-computed values with a
+// MimoPid / SisoPid (eq. 19, eqn:ff_fb_pid_control): each term against hand-computed values with a
 // variable time step, clipping, invalid input handling, and the per-step gain conversion.
 #include <catch2/catch.hpp>
 

@@ -1,4 +1,4 @@
-// Presets (Appendix sec:controller_parameters, Tables 6–9): library-unit values, and the proof
+// Presets (Appendix D (sec:controller_parameters), Tables 6–9): library-unit values, and the proof
 // of the conversion: a per-step PID in the paper's units (mm, deg; Σe, Δē, no dt) and the
 // converted library PID (mm, rad; per second) command the same velocities at the paper rate.
 #include <catch2/catch.hpp>

@@ -1,5 +1,5 @@
-// PushingController (sec:pushing_controller): target pose in the reference sensor frame
-// (eqn:transformed_target_pose), bearing and distance (eqn:target_bearing_distance), bearing
+// PushingController (Section 3.3.3, sec:pushing_controller): target pose in the reference sensor frame
+// (eq. 21, eqn:transformed_target_pose), bearing and distance (eq. 22, eqn:target_bearing_distance), bearing
 // sign, the ρ* cut-off, termination, and the Status contract — on hand-built geometries.
 #include <catch2/catch.hpp>
 
@@ -62,7 +62,7 @@ TEST_CASE("pushing: bearing sign and distance with the sensor at the reference",
 TEST_CASE("pushing: the paper's start geometry with the Table 8 preset", "[control][pushing]") {
   // Work frame: the table is the work yz-plane; the right-angle-mounted sensor points along
   // work +y (z_s = y_w), with y_s = z_w and x_s = −x_w.  Sensor at (y, z) = (−250, 100) mm,
-  // target at (0, 375) mm (sec:single_arm_object_pushing_exp), both at the same height x.
+  // target at (0, 375) mm (Section 5.6, sec:single_arm_object_pushing_exp), both at the same height x.
   Eigen::Matrix3d C;
   C << -1, 0, 0,  //
       0, 0, 1,    //
@@ -113,7 +113,7 @@ TEST_CASE("pushing: target is taken into the reference frame and the alignment m
   REQUIRE(push.setTarget(X_wt) == Status::ok);
   V6 u = V6::Zero();
   REQUIRE(push.step(X_ws, X_sf, 0.05, u) == Status::ok);
-  const G X_srt = X_ss.inverse() * X_ws.inverse() * X_wt;  // eqn:transformed_target_pose
+  const G X_srt = X_ss.inverse() * X_ws.inverse() * X_wt;  // eq. 21 (eqn:transformed_target_pose)
   CHECK(push.targetInReference().isApprox(X_srt, 1e-9));
   const double y = X_srt.translation()[1], z = X_srt.translation()[2];
   CHECK(push.bearing() == Approx(std::atan2(y, z)));

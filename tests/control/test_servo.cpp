@@ -1,5 +1,5 @@
-// TactileServoController (sec:servoing_controller): the servo error E = X_sf X_s'f⁻¹
-// (eqn:se3_tactile_servo_error), e = log(E)^∨ (eqn:local_tangent_space_error), the
+// TactileServoController (Section 3.3.2, sec:servoing_controller): the servo error E = X_sf X_s'f⁻¹
+// (eq. 20, eqn:se3_tactile_servo_error), e = log(E)^∨ (eq. 18, eqn:local_tangent_space_error), the
 // feedforward mapping v = Ad(X_ss') u_s'2, genericity over the group, and the Status contract.
 #include <catch2/catch.hpp>
 

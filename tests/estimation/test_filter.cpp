@@ -1,4 +1,4 @@
-// The discriminative Bayesian filter (alg:se3_bayes_filter): linear-Kalman limit, statistical
+// The discriminative Bayesian filter (Algorithm 2, alg:se3_bayes_filter): linear-Kalman limit, statistical
 // consistency (NEES/NIS), gating, bad input, other groups, float vs double.
 #include <catch2/catch.hpp>
 
@@ -73,7 +73,7 @@ typename G::Jacobian diagCov(const typename G::Tangent& sigma) {
   return sigma.array().square().matrix().asDiagonal();
 }
 
-/// GDN-like per-component σ (paper Table tab:nn_pose_shear_estimate_results): 0.4, 0.4, 0.12 mm
+/// GDN-like per-component σ (paper Table 1 (tab:nn_pose_shear_estimate_results)): 0.4, 0.4, 0.12 mm
 /// and 0.5°, 0.6°, 1.2°.
 SE3d::Tangent gdnSigma() {
   SE3d::Tangent s;

@@ -1,4 +1,4 @@
-// Concentrated Gaussians, Jacobian policies, χ² helpers and data fusion (alg:se3_data_fusion).
+// Concentrated Gaussians, Jacobian policies, χ² helpers and data fusion (Algorithm 3, alg:se3_data_fusion).
 #include <catch2/catch.hpp>
 
 #include <array>
@@ -103,7 +103,7 @@ TEST_CASE("concentrated Gaussian: tangent conversions, transform, inverse, compo
           "[estimation][gaussian]") {
   using G = SE3d;
   std::mt19937_64 rng(3);
-  SECTION("fromTangentGaussian / toTangentGaussian round trip (eq:se3_inverse_transform)") {
+  SECTION("fromTangentGaussian / toTangentGaussian round trip (eq. 14, eq:se3_inverse_transform)") {
     for (int t = 0; t < 20; ++t) {
       const G::Tangent mu = randn<G::Tangent>(rng, 0.5);
       const G::Tangent sigma = realisticSigma<G>(rng);
@@ -408,7 +408,7 @@ TEST_CASE("fusion: series orders and iteration counts converge to the closed-for
 TEST_CASE("fusion: Monte Carlo importance sampling of the normalised product on SE(3)",
           "[estimation][fusion][montecarlo]") {
   // p*(X) ∝ p1(X) p2(X), each p_i(X) = β(ε_i) exp(−½ ε_iᵀ Σ_i⁻¹ ε_i), β(ε) = 1/|det J(ε)|
-  // (eqn:se3_pdf). Sampling X = exp(ε1^) X̄1 with ε1 ~ N(0, Σ1) has density N(ε1)/|det J(ε1)|
+  // (eq. 36, eqn:se3_pdf). Sampling X = exp(ε1^) X̄1 with ε1 ~ N(0, Σ1) has density N(ε1)/|det J(ε1)|
   // on SE(3) (dX = |det J(ε)| dε), so the importance weight is w = p1 p2 / q ∝ p2(X)
   // = exp(−½ ε2ᵀ Σ2⁻¹ ε2)/|det J(ε2)|: β of the sampled factor cancels exactly; β of the
   // other factor is kept (and its effect reported).
@@ -576,7 +576,7 @@ TEST_CASE("fusion: hard cases", "[estimation][fusion][hard]") {
       CHECK(r.fused.validate() == Status::ok);
       ++cases;
     }
-    // (iii) The same σ mapped by J(μ) (eq:se3_inverse_transform): J couples rotation into
+    // (iii) The same σ mapped by J(μ) (eq. 14, eq:se3_inverse_transform): J couples rotation into
     // translation, so with a 1e24 spread the mapped matrix is not representable as an SPD matrix
     // in double and fromTangentGaussian reports numerical_failure; whenever it succeeds, fusion
     // must succeed too.

@@ -1,4 +1,4 @@
-// libFuzzer target: the discriminative Bayesian filter (alg:se3_bayes_filter) driven by an
+// libFuzzer target: the discriminative Bayesian filter (Algorithm 2, alg:se3_bayes_filter) driven by an
 // arbitrary sequence of reset/step/predict/correct/configure calls with arbitrary
 // inputs, for SE3 (double, float) and SE2. Properties (abort on violation):
 //   * no crash, no UB (ASan+UBSan);

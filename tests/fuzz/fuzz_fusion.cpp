@@ -1,4 +1,4 @@
-// libFuzzer target: concentrated-Gaussian operations and data fusion (alg:se3_data_fusion)
+// libFuzzer target: concentrated-Gaussian operations and data fusion (Algorithm 3, alg:se3_data_fusion)
 // on SE3 (double, float), SE2 and SO3 with arbitrary inputs. Properties (abort on violation):
 //   * every function returns (no crash, no UB — the build uses ASan+UBSan);
 //   * Status::ok ⇒ every output is finite (and a fused/transformed Gaussian validates);
@@ -57,7 +57,7 @@ void run(Bytes& b) {
     default: fuseWith<SeriesJacobian<4>>(b, f, count); break;
   }
 
-  // Transform (eqn:se3_rv_probabilistic_transform_2).
+  // Transform (eq. 41, eqn:se3_rv_probabilistic_transform_2).
   {
     CG out = fuzz::gaussian<G>(b);
     const CG before = out;
@@ -70,7 +70,7 @@ void run(Bytes& b) {
       LIESERVO_FUZZ_REQUIRE(fuzz::bitwiseEqual(out, before));
     }
   }
-  // Tangent conversions (eq:se3_inverse_transform, eqn:glob_tangent_space_pdf).
+  // Tangent conversions (eq. 14, eq:se3_inverse_transform, eq. 38 (eqn:glob_tangent_space_pdf)).
   {
     CG out;
     const CG before = out;

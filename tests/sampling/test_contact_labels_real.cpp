@@ -61,7 +61,7 @@ TEST_CASE("real train rows: pose_* is X_perp, shear_* is X_par, X_par*X_perp is 
 }
 
 TEST_CASE("real data sets are consistent with the disk and cap distributions", "[sampling][real-data][statistics]") {
-  // Evidence that we read eqn:disk_random_sampling / eqn:sphere_random_sampling as the authors
+  // Evidence that we read eq. 1 (eqn:disk_random_sampling) / eq. 2 (eqn:sphere_random_sampling) as the authors
   // did: the collected (x, y) and (α, β) pass the same KS tests (α = 0.001; n = 6000 detects a
   // CDF deviation ≥ 0.033 with power ≥ 0.9).
   for (const char* split : {"train", "val"}) {

@@ -1,5 +1,5 @@
-// Surface contact pose and shear sampling (paper sec:surface_contact_poses, sec:data_collection:
-// eqn:disk_random_sampling, eqn:sphere_random_sampling) and the label composition
+// Surface contact pose and shear sampling (paper Section 3.1.1 (sec:surface_contact_poses), Section 3.1.2 (sec:data_collection):
+// eq. 1 (eqn:disk_random_sampling), eq. 2 (eqn:sphere_random_sampling)) and the label composition
 // X_fs = X_par·X_perp, ξ = log(X_fs⁻¹)^∨.
 //
 // Statistical tests: significance level α = 0.001 each, fixed seeds (so a test either always
@@ -131,11 +131,11 @@ TEST_CASE("ranges: paper defaults, validation", "[sampling]") {
 }
 
 TEST_CASE("equation mappings: disk, cap, their inverse", "[sampling]") {
-  // eqn:disk_random_sampling
+  // eq. 1 (eqn:disk_random_sampling)
   const auto xy = diskPoint(5.0, 0.25, kPi / 2);
   CHECK(xy(0) == Approx(0).margin(1e-15));
   CHECK(xy(1) == Approx(2.5));
-  // eqn:sphere_random_sampling: φ' = 0 → no tilt; φ' = 1 → tilt φ_max
+  // eq. 2 (eqn:sphere_random_sampling): φ' = 0 → no tilt; φ' = 1 → tilt φ_max
   const double phi_max = lieservo::deg2rad(25.0);
   const auto ab0 = capAngles(phi_max, 0.0, 1.234);
   CHECK(ab0(0) == Approx(0).margin(1e-15));
@@ -195,7 +195,7 @@ TEST_CASE("samples respect the ranges (default and custom)", "[sampling]") {
   CHECK(s1 == Approx(s2).epsilon(1e-12));
 }
 
-TEST_CASE("translational shear is uniform over the disk (eqn:disk_random_sampling)", "[sampling][statistics]") {
+TEST_CASE("translational shear is uniform over the disk (eq. 1, eqn:disk_random_sampling)", "[sampling][statistics]") {
   const Drawn d = drawMany(2024, kN);
   std::vector<double> xs, ys, u_r2, u_theta;
   for (const auto& p : d.poses) {
@@ -223,7 +223,7 @@ TEST_CASE("translational shear is uniform over the disk (eqn:disk_random_samplin
   CHECK(ksPValue(ksStatisticUniform(wu), kN) < kAlpha);
 }
 
-TEST_CASE("contact angles are uniform over the spherical cap (eqn:sphere_random_sampling)", "[sampling][statistics]") {
+TEST_CASE("contact angles are uniform over the spherical cap (eq. 2, eqn:sphere_random_sampling)", "[sampling][statistics]") {
   const double phi_max = lieservo::deg2rad(25.0);
   const Drawn d = drawMany(4711, kN);
   std::vector<double> phis, thetas, u_area, u_theta;

@@ -9,7 +9,7 @@
 using namespace lieservo::sim;
 
 namespace {
-// A contact drawn from the paper's training distribution (sec:data_collection).
+// A contact drawn from the paper's training distribution (Section 3.1.2, sec:data_collection).
 ContactState sampleTrainingContact(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> U(0, 1);
   const double r = 5 * std::sqrt(U(rng)), th = 2 * kPi * U(rng);

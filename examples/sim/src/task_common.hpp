@@ -21,7 +21,7 @@ using Filter = lieservo::DiscriminativeBayesFilter<SE3d>;
 using Gaussian = lieservo::ConcentratedGaussian<SE3d>;
 
 /// GDN observation of the true contact → concentrated Gaussian on X_sf
-/// (eq:se3_inverse_transform).
+/// (eq. 14, eq:se3_inverse_transform).
 inline Status observeContact(ObservationSource& gdn, const ContactState& state, Gaussian& g) {
   GdnObservation obs;
   const Status s = gdn.observe(state, obs);

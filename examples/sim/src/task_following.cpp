@@ -1,7 +1,7 @@
-// Task (b): surface following (paper sec:surface_follow_exp), on MuJoCo, Table 7 controller
+// Task (b): surface following (paper Section 5.5 (sec:surface_follow_exp)), on MuJoCo, Table 7 controller
 // (reference (0, 0, 3, 0, 0, 0): normal contact at 3 mm depth) with feedforward
 // u_s'2 = (10 cos θ, 10 sin θ, 0, 0, 0, 0) mm/s in the reference sensor frame, mapped into the
-// sensor frame with Ad(X_ss') inside TactileServoController (sec:servoing_controller).
+// sensor frame with Ad(X_ss') inside TactileServoController (Section 3.3.2, sec:servoing_controller).
 //
 //  * curved ramp (a fixed "ramp" fixture, H = 40 mm, L = 200 mm: a convex-then-concave cosine
 //    profile, slope up to 17.4°): start on the top at 3 mm depth with the sensor y-axis along the

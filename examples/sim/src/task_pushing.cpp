@@ -1,5 +1,5 @@
-// Tasks (c) and (d): single- and dual-arm pushing (paper sec:single_arm_object_pushing_exp,
-// sec:dual_arm_object_pushing_exp, sec:dual_arm_tall_object_pushing) on MuJoCo.
+// Tasks (c) and (d): single- and dual-arm pushing (paper Section 5.6 (sec:single_arm_object_pushing_exp),
+// Section 5.7 (sec:dual_arm_object_pushing_exp), Section 5.7.2 (sec:dual_arm_tall_object_pushing)) on MuJoCo.
 //
 // Work frame: the support is the x–y plane, z up. The leader's sensor starts at
 // (x, y, z) = (−250, 100, 45) mm with its axis along +x (right-angle mount: x_s up,

@@ -1,11 +1,11 @@
-// Task (a): object pose tracking (paper sec:obj_pose_tracking_exp), on MuJoCo.
+// Task (a): object pose tracking (paper Section 5.4 (sec:obj_pose_tracking_exp)), on MuJoCo.
 //
 // A leader arm carries a flat plate (a carried "plate" fixture, 160 mm square, its face
 // normal +z_o towards the follower). The follower's sensor starts normal to the plate at 6 mm
 // depth (Table 6 reference (0,0,6,0,0,0)).
-// Part 1 (sec:object_pose_tracking_single_exp): the leader moves 200 mm along −x, +y, +z of the
+// Part 1 (Section 5.4.1, sec:object_pose_tracking_single_exp): the leader moves 200 mm along −x, +y, +z of the
 // work frame and rotates 60° about x (−α), y, z through the plate centre, each leg out and back
-// with a smooth (raised-cosine) profile of `leg_time` s.  Part 2 (sec:object_pose_tracking_multi_exp):
+// with a smooth (raised-cosine) profile of `leg_time` s.  Part 2 (Section 5.4.2, sec:object_pose_tracking_multi_exp):
 // v_j(t) = (2π b_j / T) cos(2πt/T + φ_j), b = (75, 75, 75 mm, 25°, 25°, 25°),
 // φ = (π/2, 0, …, 0), T = 30 s, three periods; integrated as position
 // p_j(t) = b_j (sin(2πt/T + φ_j) − sin φ_j) (Euler angles for the rotational part).

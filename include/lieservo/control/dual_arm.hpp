@@ -1,9 +1,9 @@
 // lieservo/control/dual_arm.hpp — leader/follower dual-arm pushing
-// (paper: sec:single_dual_arm_controllers, sec:dual_arm_object_pushing_exp).
+// (paper: Section 3.3.4 (sec:single_dual_arm_controllers), Section 5.7 (sec:dual_arm_object_pushing_exp)).
 //
 // The leader arm runs a pushing controller (Table 8, dual-arm Ki), the follower arm a
 // stabilising tactile servoing controller (Table 9).  Each arm has its own discriminative
-// Bayes filter (alg:se3_bayes_filter) turning the GDN observation of the feature pose X_sf
+// Bayes filter (Algorithm 2, alg:se3_bayes_filter) turning the GDN observation of the feature pose X_sf
 // (with covariance) and the arm's sensor pose X_ws into the filtered X_sf its controller uses.
 // The two arms are decentralised: they share nothing but the time step.
 //
@@ -177,7 +177,7 @@ class DualArmPushing {
 };
 
 /// Options for the paper's dual-arm pushing (Table 8 dual-arm leader + Table 9 follower),
-/// with the tall-object reference offsets of sec:dual_arm_tall_object_pushing when
+/// with the tall-object reference offsets of Section 5.7.2 (sec:dual_arm_tall_object_pushing) when
 /// `tall_object` is true.
 template <class Scalar, class Filter = DiscriminativeBayesFilter<SE3<Scalar>>>
 typename DualArmPushing<Scalar, Filter>::Options dualArmPushingPreset(bool tall_object = false,

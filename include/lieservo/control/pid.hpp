@@ -1,5 +1,5 @@
 // lieservo/control/pid.hpp — MIMO and SISO feedforward-feedback PID controllers with an
-// explicit time step (paper: eqn:ff_fb_pid_control, Section sec:tangent_space_control).
+// explicit time step (paper: eq. 19 (eqn:ff_fb_pid_control), Section 3.3.1 (sec:tangent_space_control)).
 //
 //   u_k = clip_out( v_k + Kp e_k + Ki I_k + Kd d_k )
 //
@@ -36,7 +36,7 @@
 
 namespace lieservo {
 
-/// Multi-input multi-output PID with feedforward (eqn:ff_fb_pid_control).  N channels;
+/// Multi-input multi-output PID with feedforward (eq. 19, eqn:ff_fb_pid_control).  N channels;
 /// gains are full N×N matrices (the paper uses diagonal ones: see Options::diagonal).
 template <class Scalar, int N>
 class MimoPid {
@@ -249,7 +249,7 @@ class MimoPid {
 };
 
 /// Single-input single-output PID with feedforward (the paper's target-alignment "PID 2",
-/// sec:pushing_controller).  Same update law and contract as MimoPid with N = 1.
+/// Section 3.3.3 (sec:pushing_controller)).  Same update law and contract as MimoPid with N = 1.
 template <class Scalar>
 class SisoPid {
   using Impl = MimoPid<Scalar, 1>;

@@ -1,5 +1,5 @@
 // lieservo/control/presets.hpp — the paper's controller parameters (Appendix
-// sec:controller_parameters, Tables 6–9) stored in the paper's units and converted to the
+// Appendix D (sec:controller_parameters), Tables 6–9) stored in the paper's units and converted to the
 // library's units in code.
 //
 // Paper units: translations in mm, angles in degrees (reference poses as extrinsic-xyz Euler
@@ -65,9 +65,9 @@ struct SisoTable {
   double reference_bearing;  ///< deg
 };
 
-/// Table tab:object_tracking_control_params (object tracking, follower arm).
+/// Table 6 (tab:object_tracking_control_params) (object tracking, follower arm).
 inline constexpr MimoTable kObjectTracking{
-    "tab:object_tracking_control_params",
+    "Table 6 (tab:object_tracking_control_params)",
     {5, 5, 5, 2, 2, 0},
     {0.5, 0.5, 0.5, 0.2, 0.2, 0.2},
     {0.5, 0.5, 0.5, 0.2, 0.2, 0.2},
@@ -75,11 +75,11 @@ inline constexpr MimoTable kObjectTracking{
     {0, 0, 6, 0, 0, 0},
     {0, 0, 0, 0, 0, 0}};
 
-/// Table tab:surface_follow_control_params (surface following).  The feedforward is
+/// Table 7 (tab:surface_follow_control_params) (surface following).  The feedforward is
 /// task-dependent: here the curved-ramp value u_s'2 = (0, 10, 0, 0, 0, 0)
-/// (sec:surface_follow_ramp); the dome uses (10 cos θi, 10 sin θi, 0, 0, 0, 0).
+/// (Section 5.5.1, sec:surface_follow_ramp); the dome uses (10 cos θi, 10 sin θi, 0, 0, 0, 0).
 inline constexpr MimoTable kSurfaceFollowing{
-    "tab:surface_follow_control_params",
+    "Table 7 (tab:surface_follow_control_params)",
     {0, 0, 2, 2, 2, 0},
     {0, 0, 0.1, 0.1, 0.1, 0},
     {0, 0, 0.05, 0.05, 0.05, 0},
@@ -87,9 +87,9 @@ inline constexpr MimoTable kSurfaceFollowing{
     {0, 0, 3, 0, 0, 0},
     {0, 10, 0, 0, 0, 0}};
 
-/// Table tab:pushing_control_params, PID 1 (MIMO tactile servoing of the pusher).
+/// Table 8 (tab:pushing_control_params), PID 1 (MIMO tactile servoing of the pusher).
 inline constexpr MimoTable kPushingServo{
-    "tab:pushing_control_params",
+    "Table 8 (tab:pushing_control_params)",
     {1, 0, 0, 1, 0, 0},
     {0.1, 0, 0, 0.1, 0, 0},
     {0.1, 0, 0, 0.1, 0, 0},
@@ -97,13 +97,13 @@ inline constexpr MimoTable kPushingServo{
     {0, 0, 0, 0, 0, 0},
     {0, 0, 10, 0, 0, 0}};
 
-/// Table tab:pushing_control_params, PID 2 (SISO target alignment).
+/// Table 8 (tab:pushing_control_params), PID 2 (SISO target alignment).
 inline constexpr SisoTable kPushingAlignment{
-    "tab:pushing_control_params", 0.9, 0.3, 0.5, 0.9, 10, 15, 0};
+    "Table 8 (tab:pushing_control_params)", 0.9, 0.3, 0.5, 0.9, 10, 15, 0};
 
-/// Table tab:stabiliser_control_params (dual-arm follower, stabilising servoing).
+/// Table 9 (tab:stabiliser_control_params) (dual-arm follower, stabilising servoing).
 inline constexpr MimoTable kStabiliser{
-    "tab:stabiliser_control_params",
+    "Table 9 (tab:stabiliser_control_params)",
     {5, 0, 5, 1, 0, 0},
     {0.5, 0, 0.5, 0.1, 0, 0},
     {0.5, 0, 0.5, 0.1, 0, 0},
@@ -111,16 +111,16 @@ inline constexpr MimoTable kStabiliser{
     {0, 0, 3, 0, 0, 0},
     {0, 0, 0, 0, 0, 0}};
 
-/// sec:dual_arm_tall_object_pushing: modified reference poses for tall objects (the first
+/// Section 5.7.2 (sec:dual_arm_tall_object_pushing): modified reference poses for tall objects (the first
 /// component moved by ±0.5 mm): leader (pusher) and follower (stabiliser).
 inline constexpr double kTallObjectLeaderReference[6] = {0.5, 0, 0, 0, 0, 0};
 inline constexpr double kTallObjectFollowerReference[6] = {-0.5, 0, 3, 0, 0, 0};
 
-/// Surface-following speed (mm/s) of sec:surface_follow_ramp / sec:surface_follow_hemisphere.
+/// Surface-following speed (mm/s) of Section 5.5.1 (sec:surface_follow_ramp) / Section 5.5.2 (sec:surface_follow_hemisphere).
 inline constexpr double kSurfaceFollowingSpeed = 10;
-/// The paper's EWMA decay coefficient (sec:tangent_space_control), per control step.
+/// The paper's EWMA decay coefficient (Section 3.3.1, sec:tangent_space_control), per control step.
 inline constexpr double kSmoothing = 0.5;
-/// Alignment cut-off ρ* (mm) and termination radius (mm) of sec:pushing_controller.
+/// Alignment cut-off ρ* (mm) and termination radius (mm) of Section 3.3.3 (sec:pushing_controller).
 inline constexpr double kAlignmentCutoff = 120;
 inline constexpr double kTerminationRadius = 20;
 
@@ -229,7 +229,7 @@ typename TactileServoController<SE3<Scalar>>::Options objectTrackingPreset(const
 }
 
 /// Surface-following feedforward u_s'2 = (speed cos θ, speed sin θ, 0, 0, 0, 0): heading θ
-/// (rad) in the xy-plane of the reference sensor frame (sec:surface_follow_hemisphere;
+/// (rad) in the xy-plane of the reference sensor frame (Section 5.5.2, sec:surface_follow_hemisphere;
 /// the ramp is θ = π/2).
 template <class Scalar>
 Eigen::Matrix<Scalar, 6, 1> surfaceFollowingFeedforward(Scalar heading, Scalar speed = Scalar(paper::kSurfaceFollowingSpeed)) {
@@ -245,7 +245,7 @@ typename TactileServoController<SE3<Scalar>>::Options surfaceFollowingPreset(con
   return paperServoOptions<Scalar>(paper::kSurfaceFollowing, c);
 }
 
-/// Which pushing experiment (sec:single_arm_object_pushing_exp, sec:dual_arm_object_pushing_exp).
+/// Which pushing experiment (Section 5.6, sec:single_arm_object_pushing_exp, Section 5.7 (sec:dual_arm_object_pushing_exp)).
 enum class PushingConfiguration {
   single_arm,                   ///< Table 8, Ki(PID 2) = 0.3
   dual_arm_leader,              ///< Table 8, Ki(PID 2) = 0.5
@@ -270,7 +270,7 @@ typename PushingController<Scalar>::Options pushingPreset(
 }
 
 /// Table 9 (tab:stabiliser_control_params): the dual-arm follower; `tall_object` selects the
-/// reference pose (−0.5, 0, 3, 0, 0, 0) of sec:dual_arm_tall_object_pushing.
+/// reference pose (−0.5, 0, 3, 0, 0, 0) of Section 5.7.2 (sec:dual_arm_tall_object_pushing).
 template <class Scalar>
 typename TactileServoController<SE3<Scalar>>::Options stabiliserPreset(bool tall_object = false,
                                                                       const PaperGainConvention& c = {}) {

@@ -1,13 +1,13 @@
 // lieservo/control/pushing_controller.hpp — the tactile pushing controller: tactile servoing
-// plus target alignment (paper: sec:pushing_controller, Figure fig:pushing_controller (b)).
+// plus target alignment (paper: Section 3.3.3 (sec:pushing_controller), Figure fig:pushing_controller (b)).
 //
 // Each control cycle, with X_ws the sensor pose in the robot work frame (proprioception),
 // X_wt the target pose and X_ss' the servo error of the tactile servoing controller:
 //
-//   u_servo = tactile servoing output (TactileServoController<SE3>)   sec:servoing_controller
-//   X_s't   = X_ss'⁻¹ X_ws⁻¹ X_wt                                     eqn:transformed_target_pose
+//   u_servo = tactile servoing output (TactileServoController<SE3>)   Section 3.3.2 (sec:servoing_controller)
+//   X_s't   = X_ss'⁻¹ X_ws⁻¹ X_wt                                     eq. 21 (eqn:transformed_target_pose)
 //   θ = atan2(y, z),  r = sqrt(y² + z²)   ((x, y, z) = translation of X_s't)
-//                                                                     eqn:target_bearing_distance
+//                                                                     eq. 22 (eqn:target_bearing_distance)
 //   e_θ = wrap(θ_ref − θ)                 (θ_ref = 0 in the paper)
 //   u_y = SISO PID(e_θ)                   tangential y velocity in {s'}
 //   u   = u_servo + Ad(X_ss') [0, u_y, 0, 0, 0, 0]ᵀ
@@ -18,7 +18,7 @@
 //
 // Alignment cut-off (paper ρ* = 120 mm): when r < ρ* the alignment output is zero and its PID
 // is not stepped (held); only the servoing controller acts.  r is the distance of
-// eqn:target_bearing_distance, i.e. measured in the y–z plane of the reference sensor frame.
+// eq. 22 (eqn:target_bearing_distance), i.e. measured in the y–z plane of the reference sensor frame.
 //
 // Termination (paper: "the centre of the sensor tip is closer than its radius of 20 mm from
 // the target"): the sensor frame origin is the tip centre, so the compared distance is that
@@ -146,13 +146,13 @@ class PushingController {
     s = servo_.step(feature_in_sensor, dt, u_servo);
     if (s != Status::ok) return s;
 
-    // Target in the reference sensor frame, eqn:transformed_target_pose.
+    // Target in the reference sensor frame, eq. 21 (eqn:transformed_target_pose).
     const Group& X_ssr = servo_.poseError();
     const Group X_srt = X_ssr.inverse() * X_st;
     const auto p = X_srt.translation();
     const Scalar y = p[1];
     const Scalar z = p[2];
-    const Scalar theta = std::atan2(y, z);   // eqn:target_bearing_distance
+    const Scalar theta = std::atan2(y, z);   // eq. 22 (eqn:target_bearing_distance)
     const Scalar r = std::hypot(y, z);
 
     Tangent u_align_ref = Tangent::Zero();

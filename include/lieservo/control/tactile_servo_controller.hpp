@@ -1,14 +1,14 @@
 // lieservo/control/tactile_servo_controller.hpp — the tactile servoing controller
-// (paper: sec:servoing_controller, Figure fig:pushing_controller (a)).
+// (paper: Section 3.3.2 (sec:servoing_controller), Figure fig:pushing_controller (a)).
 //
 // Frames (paper notation): {s} current sensor frame (origin at the centre of the hemispherical
 // sensor tip, z out of the tip), {s'} reference sensor frame, {f} surface feature frame
 // (z normal to and into the surface).  Each control cycle:
 //
-//   E = X_ss' = X_sf X_s'f⁻¹ = X_sf X_fs'          eqn:se3_tactile_servo_error
-//   e = log(E)^∨                                    eqn:local_tangent_space_error
+//   E = X_ss' = X_sf X_s'f⁻¹ = X_sf X_fs'          eq. 20 (eqn:se3_tactile_servo_error)
+//   e = log(E)^∨                                    eq. 18 (eqn:local_tangent_space_error)
 //   v = Ad(X_ss') u_s'2                             feedforward twist mapped into {s}
-//   u = v + Kp e + Ki ∫e dt + Kd dē/dt              eqn:ff_fb_pid_control (MimoPid)
+//   u = v + Kp e + Ki ∫e dt + Kd dē/dt              eq. 19 (eqn:ff_fb_pid_control) (MimoPid)
 //
 // X_sf is the (filtered) feature pose in the current sensor frame; X_fs' = X_ref is the
 // reference sensor pose in the feature frame (the tables' "Feedback ref pose"); u_s'2 is the
@@ -89,7 +89,7 @@ class TactileServoController {
     return Status::ok;
   }
 
-  /// E = X_sf X_s'f⁻¹ = X_sf X_fs' (eqn:se3_tactile_servo_error): the reference sensor pose
+  /// E = X_sf X_s'f⁻¹ = X_sf X_fs' (eq. 20, eqn:se3_tactile_servo_error): the reference sensor pose
   /// in the current sensor frame, X_ss'.
   static G servoError(const G& feature_in_sensor, const G& reference_sensor_in_feature) {
     return feature_in_sensor * reference_sensor_in_feature;
@@ -106,7 +106,7 @@ class TactileServoController {
     if (c != Status::ok) return c;
 
     const G E = servoError(feature_in_sensor, options_.reference);   // X_ss'
-    const Tangent e = E.log();                                       // eqn:local_tangent_space_error
+    const Tangent e = E.log();                                       // eq. 18 (eqn:local_tangent_space_error)
     // Ad(X_ss') u_s'2; most presets have no feedforward, and then Ad is not needed at all.
     const Tangent v = feedforward_is_zero_ ? Tangent(Tangent::Zero())
                                            : Tangent(E.Ad() * options_.feedforward);

@@ -1,14 +1,14 @@
 // lieservo/estimation/bayes_filter.hpp — the discriminative Bayesian filter on a Lie group G
-// (Algorithm alg:se3_bayes_filter, Section sec:se3_bayes_filter).
+// (Algorithm 2 (alg:se3_bayes_filter), Section 3.2 (sec:se3_bayes_filter)).
 //
 // Inputs per step k: an observation PDF (X̄_k^obs, Σ_k^obs) — e.g. the GDN estimate converted by
-// fromTangentGaussian (eq:se3_inverse_transform) — and the sensor pose X_k^sens.
+// fromTangentGaussian (eq. 14, eq:se3_inverse_transform) — and the sensor pose X_k^sens.
 //   Initialisation:  fil_0 = bel_0 = obs_0.
-//   Prediction (eqn:bayes_filter_prediction, eqn:se3_rv_probabilistic_transform_2):
+//   Prediction (eq. 12, eqn:bayes_filter_prediction, eq. 41 (eqn:se3_rv_probabilistic_transform_2)):
 //       T̄_k = (X_k^sens)⁻¹ X_{k−1}^sens,   X̄_k^bel = T̄_k X̄_{k−1}^fil,
-//       Σ_k^bel = Ad(T̄_k) Σ_{k−1}^fil Ad(T̄_k)ᵀ + Σφ                  (Σφ: eqn:state_dynamics_noise_cov)
-//   Correction (eqn:bayes_filter_correction): (X̄_k^fil, Σ_k^fil) = fuse(obs_k, bel_k)
-//       by alg:se3_data_fusion, the operating point starting at the observation (as the paper).
+//       Σ_k^bel = Ad(T̄_k) Σ_{k−1}^fil Ad(T̄_k)ᵀ + Σφ                  (Σφ: eq. 16 (eqn:state_dynamics_noise_cov))
+//   Correction (eq. 13, eqn:bayes_filter_correction): (X̄_k^fil, Σ_k^fil) = fuse(obs_k, bel_k)
+//       by Algorithm 3 (alg:se3_data_fusion), the operating point starting at the observation (as the paper).
 //
 // Real-time contract: reset/step/predict/correct are noexcept, allocation-free, return a
 // Status, and leave the filter state (belief, filtered, sensor pose, counters) unchanged unless
@@ -31,7 +31,7 @@
 
 namespace lieservo {
 
-/// The paper's state-dynamics noise (eqn:state_dynamics_noise_cov): σφ = 0.5 "mm/s and deg/s"
+/// The paper's state-dynamics noise (eq. 16, eqn:state_dynamics_noise_cov): σφ = 0.5 "mm/s and deg/s"
 /// per component. Translation components get σ = 0.5 (caller's unit, the paper's mm) and
 /// rotation components σ = 0.5° = 0.5·π/180 rad (this library works in radians), i.e.
 /// Σφ = diag(0.25, …, (0.5 π/180)², …).
@@ -113,7 +113,7 @@ class DiscriminativeBayesFilter {
   /// ok, or invalid_argument when the constructor was given invalid options.
   Status configurationStatus() const noexcept { return options_status_; }
 
-  /// One step of alg:se3_bayes_filter. The first step after construction or reset() is the
+  /// One step of Algorithm 2 (alg:se3_bayes_filter). The first step after construction or reset() is the
   /// algorithm's initialisation, fil_0 = bel_0 = obs_0, remembering X_0^sens; every later step
   /// predicts with T̄_k = (X_k^sens)⁻¹ X_{k−1}^sens, then corrects with the observation.
   /// Atomic: on any error nothing changes; on outlier_rejected the state is the prediction
@@ -139,7 +139,7 @@ class DiscriminativeBayesFilter {
     return diag_.last_status = s;
   }
 
-  /// Prediction only (eqn:bayes_filter_prediction) with an explicit T̄: belief = T̄·filtered
+  /// Prediction only (eq. 12, eqn:bayes_filter_prediction) with an explicit T̄: belief = T̄·filtered
   /// (+Σφ), and filtered ← belief (no observation yet). The stored sensor pose is unchanged.
   Status predict(const G& T_bar) noexcept {
     if (options_status_ != Status::ok) return diag_.last_status = options_status_;
@@ -155,7 +155,7 @@ class DiscriminativeBayesFilter {
     return diag_.last_status = Status::ok;
   }
 
-  /// Correction only (eqn:bayes_filter_correction): fuses the observation with the current
+  /// Correction only (eq. 13, eqn:bayes_filter_correction): fuses the observation with the current
   /// state (the belief after predict()). outlier_rejected leaves the state as it was.
   Status correct(const Gaussian& observation) noexcept {
     if (options_status_ != Status::ok) return diag_.last_status = options_status_;
@@ -190,7 +190,7 @@ class DiscriminativeBayesFilter {
   }
 
  private:
-  // Initialisation of alg:se3_bayes_filter: fil_0 = bel_0 = obs_0 (step() checked the pose).
+  // Initialisation of Algorithm 2 (alg:se3_bayes_filter): fil_0 = bel_0 = obs_0 (step() checked the pose).
   Status initialise(const G& sensor_pose, const Gaussian& first_observation) noexcept {
     const Status s = first_observation.validate();
     if (s != Status::ok) return diag_.last_status = s;
@@ -217,7 +217,7 @@ class DiscriminativeBayesFilter {
   // factorised once per step and its Cholesky factor handed on to the fusion.
   Status predictInto(const Gaussian& fil, const G& T_bar, Gaussian& bel,
                      Jacobian& L_bel) const noexcept {
-    Gaussian r = transform(fil, T_bar, options_.process_noise);  // eqn:bayes_filter_prediction
+    Gaussian r = transform(fil, T_bar, options_.process_noise);  // eq. 12 (eqn:bayes_filter_prediction)
     r.mean.normalize();
     if (!r.mean.allFinite() || !detail::allFinite(r.covariance))
       return Status::numerical_failure;
@@ -247,7 +247,7 @@ class DiscriminativeBayesFilter {
       return Status::outlier_rejected;
     }
     FusionResult<G> r;
-    // alg:se3_data_fusion, the operating point starting at the observation (as the paper).
+    // Algorithm 3 (alg:se3_data_fusion), the operating point starting at the observation (as the paper).
     const G means[2] = {obs.mean, bel.mean};
     const Jacobian L[2] = {L_obs, L_bel};
     s = detail::fuseFactored<Policy>(means, L, 2, options_.fusion, r);

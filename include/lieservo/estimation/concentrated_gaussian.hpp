@@ -1,11 +1,11 @@
 // lieservo/estimation/concentrated_gaussian.hpp — Gaussian random variables on a matrix Lie
 // group G ("concentrated Gaussians"), Appendix B of the paper (sec:se3_probabilistic_transform).
 //
-//     X = exp(ε^) X̄,   ε ~ N(0, Σ)                                 (eqn:se3_random_variable_2)
+//     X = exp(ε^) X̄,   ε ~ N(0, Σ)                                 (eq. 35, eqn:se3_random_variable_2)
 //
 // X̄ is the deterministic mean (`mean`), Σ the covariance of the LEFT perturbation ε
 // (`covariance`, DoF×DoF, tangent ordering [ρ; φ], translation first). The induced density on
-// G is p(X) = β(ε) exp(−½ εᵀ Σ⁻¹ ε), ε = ln(X X̄⁻¹)^∨, β(ε) = η/|det J(ε)| (eqn:se3_pdf).
+// G is p(X) = β(ε) exp(−½ εᵀ Σ⁻¹ ε), ε = ln(X X̄⁻¹)^∨, β(ε) = η/|det J(ε)| (eq. 36, eqn:se3_pdf).
 //
 // Functions returning Status are noexcept and allocation-free, and write their outputs only
 // when the Status is ok. The value-returning operations (transform, inverse, compose) are
@@ -72,7 +72,7 @@ Status ConcentratedGaussian<G>::validate() const noexcept {
 }
 
 /// Probabilistic transformation X' = T X with T = exp(φ^) T̄, φ ~ N(0, Σφ) independent of X
-/// (eqn:se3_rv_probabilistic_transform_2, first order in the covariances):
+/// (eq. 41, eqn:se3_rv_probabilistic_transform_2, first order in the covariances):
 ///     X̄' = T̄ X̄,    Σ' = Ad(T̄) Σ Ad(T̄)ᵀ + Σφ.
 /// Unchecked; the result covariance is symmetrised.
 template <class G>
@@ -86,7 +86,7 @@ ConcentratedGaussian<G> transform(const ConcentratedGaussian<G>& x, const G& T_b
   return out;
 }
 
-/// Checked version of transform (eqn:se3_rv_probabilistic_transform_2): x must validate, T̄
+/// Checked version of transform (eq. 41, eqn:se3_rv_probabilistic_transform_2): x must validate, T̄
 /// must be a valid group element, Σφ finite symmetric positive semi-definite (0 allowed);
 /// the result must be finite and SPD (else numerical_failure; a rounding-level loss of
 /// definiteness is repaired by detail::repairSpd). `out` may alias `x`.
@@ -121,7 +121,7 @@ ConcentratedGaussian<G> inverse(const ConcentratedGaussian<G>& x) noexcept {
 
 /// Compounding of two INDEPENDENT uncertain elements, X = A B:
 ///     A B = exp(ε_a^) Ā exp(ε_b^) B̄ = exp(ε_a^) exp((Ad(Ā) ε_b)^) Ā B̄
-///         ≈ exp((ε_a + Ad(Ā) ε_b)^) Ā B̄            (first order, as eqn:se3_rv_probabilistic_transform_2)
+///         ≈ exp((ε_a + Ad(Ā) ε_b)^) Ā B̄            (first order, as eq. 41 (eqn:se3_rv_probabilistic_transform_2))
 /// so mean Ā B̄ and covariance Σ_a + Ad(Ā) Σ_b Ad(Ā)ᵀ. Unchecked.
 template <class G>
 ConcentratedGaussian<G> compose(const ConcentratedGaussian<G>& a,
@@ -135,7 +135,7 @@ ConcentratedGaussian<G> compose(const ConcentratedGaussian<G>& a,
 }
 
 /// From a Gaussian in exponential coordinates ξ ~ N(μ, Σξ) to a concentrated Gaussian
-/// (eq:se3_inverse_transform, inverting eqn:glob_tangent_space_pdf):
+/// (eq. 14, eq:se3_inverse_transform, inverting eq. 38 (eqn:glob_tangent_space_pdf)):
 ///     X̄ = exp(μ^),   Σ = J(μ) Σξ J(μ)ᵀ,
 /// J evaluated by the policy (closed form by default; SeriesJacobian<2> for the paper's
 /// truncation). μ must lie in the principal branch of ln, rotation angle |φ| ≤ π: beyond it
@@ -160,7 +160,7 @@ Status fromTangentCovariance(const typename G::Tangent& mu, const typename G::Ja
   return Status::ok;
 }
 
-/// eq:se3_inverse_transform with a diagonal tangent covariance diag(σ²): the form of the
+/// eq. 14 (eq:se3_inverse_transform) with a diagonal tangent covariance diag(σ²): the form of the
 /// GDN output (μ, σ), σ per component (all > 0).
 template <class Policy = ClosedFormJacobian, class G>
 Status fromTangentGaussian(const typename G::Tangent& mu, const typename G::Tangent& sigma,
@@ -172,7 +172,7 @@ Status fromTangentGaussian(const typename G::Tangent& mu, const typename G::Tang
 }
 
 /// The Gaussian in exponential coordinates of a concentrated Gaussian
-/// (eqn:glob_tangent_space_approx, eqn:glob_tangent_space_pdf):
+/// (eq. 37, eqn:glob_tangent_space_approx, eq. 38 (eqn:glob_tangent_space_pdf)):
 ///     μ = ln(X̄)^∨,   Σξ = J(μ)⁻¹ Σ J(μ)⁻ᵀ.
 /// Meaningful while the rotation angle of μ is below π (ln is then unique).
 template <class Policy = ClosedFormJacobian, class G>
@@ -191,7 +191,7 @@ Status toTangentGaussian(const ConcentratedGaussian<G>& x, typename G::Tangent& 
 }
 
 /// Squared Mahalanobis distance of X from x in the left perturbation: ε = ln(X X̄⁻¹)^∨,
-/// d² = εᵀ Σ⁻¹ ε (the exponent of eqn:se3_pdf_approx; NEES when X is the true state).
+/// d² = εᵀ Σ⁻¹ ε (the exponent of eq. 43 (eqn:se3_pdf_approx); NEES when X is the true state).
 template <class G>
 Status mahalanobisSquared(const ConcentratedGaussian<G>& x, const G& X,
                           typename G::Scalar& d2) noexcept {

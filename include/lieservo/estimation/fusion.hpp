@@ -1,13 +1,13 @@
 // lieservo/estimation/fusion.hpp — probabilistic data fusion of concentrated Gaussians on a
 // Lie group G: the normalised product p*(X) ∝ Π_i p_i(X) (Appendix C,
 // sec:se3_probabilistic_fusion), computed by the fixed-point iteration of
-// Algorithm alg:se3_data_fusion:
+// Algorithm 3 (alg:se3_data_fusion):
 //
 //     X̄ ← X̄_1                                              (operating point)
 //     repeat:  ξ_i = ln(X̄ X̄_i⁻¹)^∨,  J_i⁻¹ = J(ξ_i)⁻¹            (policy: series of order N or closed form)
 //              Σ   = (Σ_i J_i⁻ᵀ Σ_i⁻¹ J_i⁻¹)⁻¹
 //              μ   = −Σ Σ_i J_i⁻ᵀ Σ_i⁻¹ ξ_i
-//              X̄  ← exp(μ^) X̄                                 (eqn:se3_normalised_prod_update)
+//              X̄  ← exp(μ^) X̄                                 (eq. 54, eqn:se3_normalised_prod_update)
 //     return (X̄, Σ)
 //
 // Numerics (docs/estimation.md): square-root information form. Each Σ_i is Cholesky-factorised
@@ -178,7 +178,7 @@ Status normalizedInnovationSquared(const ConcentratedGaussian<G>& observation,
 
 namespace detail {
 
-/// The iteration of alg:se3_data_fusion on factors that are already validated: `means` are
+/// The iteration of Algorithm 3 (alg:se3_data_fusion) on factors that are already validated: `means` are
 /// valid group elements, `L` the lower Cholesky factors of their covariances (Σ_i = L_i L_iᵀ,
 /// as choleskyChecked returns them), 1 ≤ count ≤ kMaxFusionFactors, options valid. fuse()
 /// validates and factorises, then calls this; the filter calls it directly with the factors it
@@ -232,7 +232,7 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
     Tangent mu = -info.c();
     upperSolveInPlace(R, mu);
     if (!allFinite(mu)) return Status::numerical_failure;
-    X = G::exp(mu) * X;  // eqn:se3_normalised_prod_update
+    X = G::exp(mu) * X;  // eq. 54 (eqn:se3_normalised_prod_update)
     ++it;
     step = mu.norm();
     if (options.tolerance > Scalar(0) && step < options.tolerance) {
@@ -263,7 +263,7 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
 
 }  // namespace detail
 
-/// N-ary fusion (alg:se3_data_fusion generalised to `count` factors, 1 ≤ count ≤
+/// N-ary fusion (Algorithm 3, alg:se3_data_fusion generalised to `count` factors, 1 ≤ count ≤
 /// kMaxFusionFactors): the operating point starts at factors[0].mean.
 /// Status: ok; invalid_argument (count or options out of range, or two means on the cut
 /// locus: relative rotation within cutLocusMargin() of π); non_finite_input / not_orthonormal /
@@ -291,7 +291,7 @@ Status fuse(const ConcentratedGaussian<G>* factors, int count,
   return detail::fuseFactored<Policy>(means, L, count, options, result);
 }
 
-/// Fusion of two factors (alg:se3_data_fusion); the operating point starts at `first.mean`
+/// Fusion of two factors (Algorithm 3, alg:se3_data_fusion); the operating point starts at `first.mean`
 /// (in the filter: the observation, as in the paper). See the N-ary overload for the Status.
 template <class Policy = PaperJacobian, class G>
 Status fuse(const ConcentratedGaussian<G>& first, const ConcentratedGaussian<G>& second,

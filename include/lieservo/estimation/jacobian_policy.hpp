@@ -2,8 +2,8 @@
 // J(ξ) and its inverse J(ξ)⁻¹ of a group G.
 //
 // The paper (Lloyd & Lepora) truncates the series of both after second order
-// (eqn:left_jacobian_def, eqn:inv_jacobian_def; "we typically truncate the corresponding series
-// after second-order terms"), and Algorithm alg:se3_data_fusion uses
+// (eq. 33, eqn:left_jacobian_def, eq. 34 (eqn:inv_jacobian_def); "we typically truncate the corresponding series
+// after second-order terms"), and Algorithm 3 (alg:se3_data_fusion) uses
 //     J(ξ)⁻¹ ≈ 1 − ½ ξ⋏ + (1/12)(ξ⋏)²,    ξ⋏ = ad(ξ).
 // A policy is a stateless type with three static member templates:
 //     template <class G> static typename G::Jacobian inverse(const typename G::Tangent& xi);
@@ -36,9 +36,9 @@ struct ClosedFormJacobian {
   }
 };
 
-/// The Bernoulli series of order N (eqn:inv_jacobian_def):
+/// The Bernoulli series of order N (eq. 34, eqn:inv_jacobian_def):
 ///     J(ξ)⁻¹ ≈ Σ_{n=0}^{N} (B_n/n!) (ξ⋏)^n,
-/// and for the forward Jacobian the series of eqn:left_jacobian_def to the same order:
+/// and for the forward Jacobian the series of eq. 33 (eqn:left_jacobian_def) to the same order:
 ///     J(ξ) ≈ Σ_{n=0}^{N} (ξ⋏)^n/(n+1)!.
 /// N = 0 gives the identity (a purely "Euclidean" tangent-space fusion), N = 2 is the paper's
 /// choice (PaperJacobian). The series converge for rotation angles |θ| < 2π; their error grows
@@ -76,7 +76,7 @@ struct SeriesJacobian {
   }
 };
 
-/// The paper's choice: second-order series (alg:se3_data_fusion).
+/// The paper's choice: second-order series (Algorithm 3, alg:se3_data_fusion).
 using PaperJacobian = SeriesJacobian<2>;
 
 }  // namespace lieservo

@@ -4,7 +4,7 @@
 //   X ⊕ ε = exp(ε^) X             lplus   (left plus: ε is expressed in the fixed frame)
 //   X ⊖ Y = ln(X Y⁻¹)^∨           lminus  (the ε with X = exp(ε^) Y)
 //
-// These are the perturbations of the paper's concentrated Gaussians (eqn:se3_pdf_approx): the
+// These are the perturbations of the paper's concentrated Gaussians (eq. 43, eqn:se3_pdf_approx): the
 // error of an estimate X̄ of X is lminus(X, X̄). lminus(lplus(X, ε), X) = ε while the rotation
 // angle of ε is below π (the principal branch of ln).
 #pragma once

@@ -66,7 +66,7 @@ class SE2 {
   }
   static Tangent vee(const Matrix& m) { return Tangent(m(0, 2), m(1, 2), Scalar(Real(0.5)) * (m(1, 0) - m(0, 1))); }
 
-  /// Ad(X) = [[R, (t_y, −t_x)ᵀ], [0, 1]] (the planar analogue of eqn:se3_adjoint).
+  /// Ad(X) = [[R, (t_y, −t_x)ᵀ], [0, 1]] (the planar analogue of eq. 30 (eqn:se3_adjoint)).
   Jacobian Ad() const {
     Jacobian A = Jacobian::Zero();
     A.template topLeftCorner<2, 2>() = R_.matrix();
@@ -75,7 +75,7 @@ class SE2 {
     A(2, 2) = Scalar(1);
     return A;
   }
-  /// ad(ξ) = [[θ [[0, −1], [1, 0]], (ρ_y, −ρ_x)ᵀ], [0, 0]] (analogue of eqn:se3_algebra_adjoint).
+  /// ad(ξ) = [[θ [[0, −1], [1, 0]], (ρ_y, −ρ_x)ᵀ], [0, 0]] (analogue of eq. 31 (eqn:se3_algebra_adjoint)).
   static Jacobian ad(const Tangent& xi) {
     Jacobian A = Jacobian::Zero();
     A(0, 1) = -xi(2);
@@ -85,14 +85,14 @@ class SE2 {
     return A;
   }
 
-  /// Left Jacobian (closed form of eqn:left_jacobian_def): [[V(θ), w], [0, 1]],
+  /// Left Jacobian (closed form of eq. 33 (eqn:left_jacobian_def)): [[V(θ), w], [0, 1]],
   /// w = (θ C(θ) ρx + B(θ) ρy, θ C(θ) ρy − B(θ) ρx), B = (1 − cosθ)/θ², C = (θ − sinθ)/θ³.
   static Jacobian leftJacobian(const Tangent& xi) {
     const Scalar th = xi(2);
     const detail::AngleTerms<Scalar> t(th * th);
     return leftJacobianWith(xi, t);
   }
-  /// Inverse (closed form of eqn:inv_jacobian_def): [[V⁻¹, −V⁻¹ w], [0, 1]].
+  /// Inverse (closed form of eq. 34 (eqn:inv_jacobian_def)): [[V⁻¹, −V⁻¹ w], [0, 1]].
   static Jacobian leftJacobianInverse(const Tangent& xi) {
     const Scalar th = xi(2);
     const detail::AngleTerms<Scalar> t(th * th);

@@ -1,9 +1,9 @@
 // lieservo/groups/se3.hpp — SE(3), rigid transformations X = [[C, r], [0ᵀ, 1]]
-// (eqn:se3_matrix_def), stored as an SO3 and a translation vector.
+// (eq. 26, eqn:se3_matrix_def), stored as an SO3 and a translation vector.
 //
-// Conventions (docs/conventions.md): ξ = [ρ; φ] (translation first, eqn:se3_hat_operator),
-// left perturbation X = exp(ε^) X̄, Ad(X) = [[C, r^C], [0, C]] (eqn:se3_adjoint),
-// ad(ξ) = [[φ^, ρ^], [0, φ^]] (eqn:se3_algebra_adjoint), J = left Jacobian (eqn:left_jacobian_def).
+// Conventions (docs/conventions.md): ξ = [ρ; φ] (translation first, eq. 28 (eqn:se3_hat_operator)),
+// left perturbation X = exp(ε^) X̄, Ad(X) = [[C, r^C], [0, C]] (eq. 30, eqn:se3_adjoint),
+// ad(ξ) = [[φ^, ρ^], [0, φ^]] (eq. 31, eqn:se3_algebra_adjoint), J = left Jacobian (eq. 33, eqn:left_jacobian_def).
 #pragma once
 
 #include <cmath>
@@ -55,7 +55,7 @@ class SE3 {
   }
 
   // ---- exp / log --------------------------------------------------------------------------
-  /// exp(ξ^) = [[exp(φ^), J(φ) ρ], [0ᵀ, 1]] (eqn:se3_hat_operator, Barfoot's closed form).
+  /// exp(ξ^) = [[exp(φ^), J(φ) ρ], [0ᵀ, 1]] (eq. 28, eqn:se3_hat_operator, Barfoot's closed form).
   static SE3 exp(const Tangent& xi) {
     const Vector3 rho = xi.template head<3>(), phi = xi.template tail<3>();
     const detail::AngleTerms<Scalar> t(phi.squaredNorm());
@@ -71,7 +71,7 @@ class SE3 {
     return xi;
   }
 
-  /// ξ^ = [[φ^, ρ], [0ᵀ, 0]] (eqn:se3_hat_operator).
+  /// ξ^ = [[φ^, ρ], [0ᵀ, 0]] (eq. 28, eqn:se3_hat_operator).
   static Matrix hat(const Tangent& xi) {
     Matrix m = Matrix::Zero();
     m.template topLeftCorner<3, 3>() = detail::skew(Vector3(xi.template tail<3>()));
@@ -85,7 +85,7 @@ class SE3 {
     return xi;
   }
 
-  /// Ad(X) = [[C, r^C], [0, C]] (eqn:se3_adjoint).
+  /// Ad(X) = [[C, r^C], [0, C]] (eq. 30, eqn:se3_adjoint).
   Jacobian Ad() const {
     Jacobian A;
     const Matrix3& C = C_.rotationMatrix();
@@ -95,7 +95,7 @@ class SE3 {
     A.template bottomRightCorner<3, 3>() = C;
     return A;
   }
-  /// ad(ξ) = ξ⋏ = [[φ^, ρ^], [0, φ^]] (eqn:se3_algebra_adjoint).
+  /// ad(ξ) = ξ⋏ = [[φ^, ρ^], [0, φ^]] (eq. 31, eqn:se3_algebra_adjoint).
   static Jacobian ad(const Tangent& xi) {
     Jacobian A;
     const Matrix3 P = detail::skew(Vector3(xi.template tail<3>()));
@@ -114,20 +114,20 @@ class SE3 {
     const detail::AngleTerms<Scalar> t(phi.squaredNorm());
     return QWith(rho, phi, t);
   }
-  /// Left Jacobian, closed form of eqn:left_jacobian_def: [[J(φ), Q(ρ, φ)], [0, J(φ)]].
+  /// Left Jacobian, closed form of eq. 33 (eqn:left_jacobian_def): [[J(φ), Q(ρ, φ)], [0, J(φ)]].
   static Jacobian leftJacobian(const Tangent& xi) {
     const Vector3 rho = xi.template head<3>(), phi = xi.template tail<3>();
     const detail::AngleTerms<Scalar> t(phi.squaredNorm());
     return leftJacobianWith(rho, phi, t);
   }
-  /// Inverse left Jacobian, closed form of eqn:inv_jacobian_def:
+  /// Inverse left Jacobian, closed form of eq. 34 (eqn:inv_jacobian_def):
   /// [[J⁻¹, −J⁻¹ Q J⁻¹], [0, J⁻¹]].
   static Jacobian leftJacobianInverse(const Tangent& xi) {
     const Vector3 rho = xi.template head<3>(), phi = xi.template tail<3>();
     const detail::AngleTerms<Scalar> t(phi.squaredNorm());
     return leftJacobianInverseWith(rho, phi, t);
   }
-  /// Truncated series Σ_{n=0}^{N} B_n/n! (ξ⋏)^n (eqn:inv_jacobian_def); N = 2 is the paper's.
+  /// Truncated series Σ_{n=0}^{N} B_n/n! (ξ⋏)^n (eq. 34, eqn:inv_jacobian_def); N = 2 is the paper's.
   template <int N>
   static Jacobian leftJacobianInverseSeries(const Tangent& xi) {
     // Horner in ad(ξ) = [[Φ, P], [0, Φ]] (Φ = φ^, P = ρ^), 3×3 blocks: every partial sum
@@ -192,7 +192,7 @@ class SE3 {
     return xi;
   }
 
-  // ---- BCH (eqn:bch_approx) ----------------------------------------------------------------
+  // ---- BCH (eq. 32, eqn:bch_approx) ----------------------------------------------------------------
   static Tangent bchLeftSmall(const Tangent& xi1_small, const Tangent& xi2) {
     return leftJacobianInverse(xi2) * xi1_small + xi2;
   }

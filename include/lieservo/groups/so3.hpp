@@ -65,7 +65,7 @@ class SO3 {
     return detail::rotationVectorFromMatrix(C_, &terms);
   }
 
-  /// φ^ (eqn:so3_hat_operator).
+  /// φ^ (eq. 29, eqn:so3_hat_operator).
   static Matrix hat(const Tangent& phi) { return detail::skew(phi); }
   /// Inverse of hat: reads the skew-symmetric part (averaging the two copies of each entry).
   static Tangent vee(const Matrix& m) {
@@ -73,25 +73,25 @@ class SO3 {
     return Tangent(h * (m(2, 1) - m(1, 2)), h * (m(0, 2) - m(2, 0)), h * (m(1, 0) - m(0, 1)));
   }
 
-  /// Ad(C) = C (the rotation block of eqn:se3_adjoint).
+  /// Ad(C) = C (the rotation block of eq. 30 (eqn:se3_adjoint)).
   Jacobian Ad() const { return C_; }
-  /// ad(φ) = φ^ (the rotation block of eqn:se3_algebra_adjoint).
+  /// ad(φ) = φ^ (the rotation block of eq. 31 (eqn:se3_algebra_adjoint)).
   static Jacobian ad(const Tangent& phi) { return detail::skew(phi); }
 
   // ---- Jacobians ---------------------------------------------------------------------------
-  /// Left Jacobian, closed form of eqn:left_jacobian_def:
+  /// Left Jacobian, closed form of eq. 33 (eqn:left_jacobian_def):
   /// J = I + ((1 − cosθ)/θ²) φ^ + ((θ − sinθ)/θ³) φ^φ^.
   static Jacobian leftJacobian(const Tangent& phi) {
     const detail::AngleTerms<Scalar> t(phi.squaredNorm());
     return leftJacobianWith(phi, t);
   }
-  /// Inverse left Jacobian, closed form of eqn:inv_jacobian_def:
+  /// Inverse left Jacobian, closed form of eq. 34 (eqn:inv_jacobian_def):
   /// J⁻¹ = I − ½ φ^ + (1/θ²)(1 − θ sinθ/(2(1 − cosθ))) φ^φ^  (singular at θ = 2π).
   static Jacobian leftJacobianInverse(const Tangent& phi) {
     const detail::AngleTerms<Scalar> t(phi.squaredNorm());
     return leftJacobianInverseWith(phi, t);
   }
-  /// Truncated series Σ_{n=0}^{N} B_n/n! (φ^)^n (eqn:inv_jacobian_def); N = 2 is the paper's.
+  /// Truncated series Σ_{n=0}^{N} B_n/n! (φ^)^n (eq. 34, eqn:inv_jacobian_def); N = 2 is the paper's.
   template <int N>
   static Jacobian leftJacobianInverseSeries(const Tangent& phi) {
     return detail::inverseJacobianSeries<SO3, N>(phi);
@@ -114,7 +114,7 @@ class SO3 {
     return phi;
   }
 
-  // ---- BCH (eqn:bch_approx) ----------------------------------------------------------------
+  // ---- BCH (eq. 32, eqn:bch_approx) ----------------------------------------------------------------
   /// log(exp(ξ1) exp(ξ2)) ≈ J(ξ2)⁻¹ ξ1 + ξ2 for small ξ1.
   static Tangent bchLeftSmall(const Tangent& xi1_small, const Tangent& xi2) {
     return leftJacobianInverse(xi2) * xi1_small + xi2;

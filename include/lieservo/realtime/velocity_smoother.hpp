@@ -1,6 +1,6 @@
 // lieservo/realtime/velocity_smoother.hpp — jerk-limited Cartesian velocity smoother.
 //
-// The paper's rig (sec:software) runs libfranka's 1 kHz Cartesian velocity callback
+// The paper's rig (Section 4.4, sec:software) runs libfranka's 1 kHz Cartesian velocity callback
 // under an in-house smoother that keeps the commanded velocity, acceleration and jerk
 // inside limits. This is lieservo's version of that layer: it tracks a target twist
 // [v; ω] (translation first) as fast as the limits allow, reaches the target with zero

@@ -1,16 +1,16 @@
 // lieservo/sampling/contact_sampling.hpp — surface contact poses and post-contact shears
-// for training-data collection (paper sec:surface_contact_poses, sec:data_collection).
+// for training-data collection (paper Section 3.1.1 (sec:surface_contact_poses), Section 3.1.2 (sec:data_collection)).
 //
 // A sample is the Euler 6-vector (x, y, z, α, β, γ) of the sensor frame {s} in the surface
 // feature frame {f} ({f}: z normal to and into the surface, aligned with {s} just out of
 // contact):
-//   (x, y)  translational shear, uniform over a disk of radius r_max   (eqn:disk_random_sampling)
+//   (x, y)  translational shear, uniform over a disk of radius r_max   (eq. 1, eqn:disk_random_sampling)
 //   z       contact depth, uniform in [z_min, z_max]
 //   (α, β)  contact angles, uniform over a spherical cap of half-angle φ_max
-//                                                                       (eqn:sphere_random_sampling)
+//                                                                       (eq. 2, eqn:sphere_random_sampling)
 //   γ       rotational shear about the normal, uniform in [γ_min, γ_max]
 //
-// Composition (sec:surface_contact_poses):
+// Composition (Section 3.1.1, sec:surface_contact_poses):
 //   X_perp = [ Ry(β) Rx(α) | (0, 0, z) ]   rotate by extrinsic-xyz (α, β), press in by z
 //                                           along the surface normal (f's z axis)
 //   X_par  = [ Rz(γ)       | (x, y, 0) ]   translate (x, y) in the surface plane, rotate γ
@@ -88,7 +88,7 @@ Scalar uniform(URBG& rng, Scalar a, Scalar b) {
   return a + (b - a) * uniformCanonical<Scalar>(rng);
 }
 
-/// Sampling ranges at the edge, in mm and degrees. Defaults: the paper's sec:data_collection
+/// Sampling ranges at the edge, in mm and degrees. Defaults: the paper's Section 3.1.2 (sec:data_collection)
 /// (and the shared data set's collect_params.json / meta.json).
 template <class Scalar = double>
 struct ContactSamplingRanges {
@@ -150,20 +150,20 @@ struct SurfaceContactPose {
 /// The uniform variates behind one sample (for diagnostics and the statistical tests).
 template <class Scalar = double>
 struct ContactDraws {
-  Scalar r_prime{0}, disk_theta{0};   ///< eqn:disk_random_sampling: r' ~ U(0,1), θ ~ U(0, 2π)
+  Scalar r_prime{0}, disk_theta{0};   ///< eq. 1 (eqn:disk_random_sampling): r' ~ U(0,1), θ ~ U(0, 2π)
   Scalar z_unit{0};                   ///< z = z_min + (z_max − z_min)·z_unit
-  Scalar phi_prime{0}, cap_theta{0};  ///< eqn:sphere_random_sampling: φ' ~ U(0,1), θ ~ U(0, 2π)
+  Scalar phi_prime{0}, cap_theta{0};  ///< eq. 2 (eqn:sphere_random_sampling): φ' ~ U(0,1), θ ~ U(0, 2π)
   Scalar gamma_unit{0};               ///< γ = γ_min + (γ_max − γ_min)·gamma_unit
 };
 
-/// eqn:disk_random_sampling: x = r cos θ, y = r sin θ, r = r_max √r'. Returns (x, y).
+/// eq. 1 (eqn:disk_random_sampling): x = r cos θ, y = r sin θ, r = r_max √r'. Returns (x, y).
 template <class Scalar>
 Eigen::Matrix<Scalar, 2, 1> diskPoint(Scalar r_max, Scalar r_prime, Scalar theta) {
   const Scalar r = r_max * std::sqrt(r_prime);
   return {r * std::cos(theta), r * std::sin(theta)};
 }
 
-/// eqn:sphere_random_sampling: φ = arccos(1 − (1 − cos φ_max) φ'), (p, q, r) =
+/// eq. 2 (eqn:sphere_random_sampling): φ = arccos(1 − (1 − cos φ_max) φ'), (p, q, r) =
 /// (sin φ cos θ, sin φ sin θ, cos φ), α = −arcsin q, β = −atan2(p, r). Returns (α, β), radians.
 template <class Scalar>
 Eigen::Matrix<Scalar, 2, 1> capAngles(Scalar phi_max, Scalar phi_prime, Scalar theta) {
@@ -190,7 +190,7 @@ Eigen::Matrix<Scalar, 2, 1> capPolar(Scalar alpha, Scalar beta) {
   return {std::acos(c), std::atan2(n(1), -n(0))};
 }
 
-/// One surface contact pose and shear (sec:data_collection, items 1–4). Draw order, fixed
+/// One surface contact pose and shear (Section 3.1.2, sec:data_collection, items 1–4). Draw order, fixed
 /// for reproducibility: r', θ_disk, z, φ', θ_cap, γ. `ranges` must validate() (not checked
 /// here: sampleSurfaceContactPoses checks it).
 template <class Scalar, class URBG>
@@ -250,7 +250,7 @@ Status sampleSurfaceContactPoses(URBG& rng, std::size_t n, const ContactSampling
 
 /// X_perp: rotate by extrinsic-xyz (α, β), then press in by z along the surface normal
 /// (f's z axis): [Ry(β) Rx(α) | (0, 0, z)] = Euler6(0, 0, z, α, β, 0) — the data set's pose_*
-/// columns. (sec:surface_contact_poses, "normal contact motion")
+/// columns. (Section 3.1.1, sec:surface_contact_poses, "normal contact motion")
 template <class Scalar>
 SE3<Scalar> normalContactTransform(Scalar z, Scalar alpha, Scalar beta) {
   return SE3<Scalar>(SO3<Scalar>::fromEulerXYZ(alpha, beta, Scalar(0)),
@@ -259,14 +259,14 @@ SE3<Scalar> normalContactTransform(Scalar z, Scalar alpha, Scalar beta) {
 
 /// X_par: translate by (x, y) in the surface plane and rotate γ about the normal:
 /// [Rz(γ) | (x, y, 0)] = Euler6(x, y, 0, 0, 0, γ) — the data set's shear_* columns.
-/// (sec:surface_contact_poses, "tangential shear motion")
+/// (Section 3.1.1, sec:surface_contact_poses, "tangential shear motion")
 template <class Scalar>
 SE3<Scalar> shearTransform(Scalar x, Scalar y, Scalar gamma) {
   return SE3<Scalar>(SO3<Scalar>::fromEulerXYZ(Scalar(0), Scalar(0), gamma),
                      typename SE3<Scalar>::Vector3(x, y, Scalar(0)));
 }
 
-/// X_fs = X_par · X_perp (sec:surface_contact_poses). Equals SE3::fromEulerXYZ6(pose.euler6())
+/// X_fs = X_par · X_perp (Section 3.1.1, sec:surface_contact_poses). Equals SE3::fromEulerXYZ6(pose.euler6())
 /// exactly in exact arithmetic (see the file comment); computed here by the composition.
 template <class Scalar>
 SE3<Scalar> surfaceContactTransform(const SurfaceContactPose<Scalar>& pose) {

@@ -22,7 +22,7 @@ int run() {
 
   for (int k = 0; k < 100; ++k) {
     ConcentratedGaussian<SE3d> obs;
-    Status s = fromTangentGaussian(mu, sigma, obs);                    // eq:se3_inverse_transform
+    Status s = fromTangentGaussian(mu, sigma, obs);                    // eq. 14 (eq:se3_inverse_transform)
     if (s == Status::ok)
       s = filter.step(X_ws, obs);  // Algorithm 2 (the first step initialises)
     if (s == Status::ok) s = servo.step(filter.filtered().mean, dt, twist);  // sensor-frame twist

@@ -1,5 +1,5 @@
 // lieservo_adapters/camera.hpp — a TacTip camera (cv::VideoCapture) yielding
-// pre-processed frames (paper sec:pre_post_processing) with steady_clock time stamps.
+// pre-processed frames (paper Section 3.1.3 (sec:pre_post_processing)) with steady_clock time stamps.
 //
 // Sources: a device index (live camera), a video file, or an image sequence given as a
 // printf pattern such as "dir/image_%d.png" (OpenCV's CAP_IMAGES backend).

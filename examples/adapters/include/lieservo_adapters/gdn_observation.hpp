@@ -1,6 +1,6 @@
 // lieservo_adapters/gdn_observation.hpp — a GDN prediction (μ, σ in library units,
 // mm and rad) as the SE(3) observation Gaussian of the Bayes filter:
-//     X̄ᵒᵇˢ = exp(μ^),   Σᵒᵇˢ = J(μ) diag(σ²) J(μ)ᵀ          (eq:se3_inverse_transform)
+//     X̄ᵒᵇˢ = exp(μ^),   Σᵒᵇˢ = J(μ) diag(σ²) J(μ)ᵀ          (eq. 14, eq:se3_inverse_transform)
 // via lieservo::fromTangentGaussian. Header-only: the adapters library itself does not
 // need the estimation headers.
 #pragma once

@@ -1,11 +1,11 @@
 // lieservo_adapters/onnx_pose_model.hpp — runs the trained pose-and-shear networks
-// (GDN, paper sec:gdn_model; CNN regression, sec:cnn_model) exported to ONNX, with
+// (GDN, paper Section 3.1.5 (sec:gdn_model); CNN regression, Section 3.1.4 (sec:cnn_model)) exported to ONNX, with
 // OpenCV's cv::dnn, and converts their outputs to library units.
 //
 // Network outputs are in the units recorded in the model card (this project's models:
 // mm and DEGREES; σ⁻¹ in 1/mm and 1/deg). Prediction::mu / sigma are converted to
 // library units: translation mm (unchanged), rotation RADIANS. The SE(3) observation
-// Gaussian (eq:se3_inverse_transform) is built in gdn_observation.hpp.
+// Gaussian (eq. 14, eq:se3_inverse_transform) is built in gdn_observation.hpp.
 #pragma once
 
 #include <array>

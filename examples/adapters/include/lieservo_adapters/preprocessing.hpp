@@ -1,5 +1,5 @@
 // lieservo_adapters/preprocessing.hpp — TacTip image pre-processing
-// (paper sec:pre_post_processing).
+// (paper Section 3.1.3 (sec:pre_post_processing)).
 //
 // Raw camera frame (640 x 480, BGR or gray)
 //   1. 8-bit grayscale                                   (paper step 1)

@@ -37,7 +37,7 @@ inline constexpr std::array<const char*, 13> kTargetColumns = {
 
 /// The label ξ = log(X_fs⁻¹)^∨ (mm, rad) of a contact pose X_fs given as extrinsic-xyz Euler
 /// (x, y, z, α, β, γ) in mm and degrees: what the GDN learns to predict (paper
-/// sec:pre_post_processing, label steps 1-3).
+/// Section 3.1.3 (sec:pre_post_processing), label steps 1-3).
 inline Eigen::Matrix<double, 6, 1> labelFromEuler6Degrees(const Eigen::Matrix<double, 6, 1>& e) {
   return SE3<double>::fromEulerXYZ6Degrees(e).inverse().log();
 }

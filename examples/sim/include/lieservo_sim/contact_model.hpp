@@ -1,5 +1,5 @@
 // lieservo_sim/contact_model.hpp — true surface contact pose and post-contact shear of a
-// hemispherical sensor tip against a rigid surface (paper sec:surface_contact_poses).
+// hemispherical sensor tip against a rigid surface (paper Section 3.1.1 (sec:surface_contact_poses)).
 //
 // Geometry.  The sensor frame {s} sits at the centre c of the hemispherical tip (radius R,
 // 20 mm for the 40 mm TacTip), z out of the tip.  With the nearest surface point p, outward
@@ -23,7 +23,7 @@
 // and the twist until |γ| exceeds γ_max; beyond that the anchor slides (p_a, t_a move) so the
 // shear stays on the limit (kinetic friction), which is what "slip" looks like to the GDN.
 // Default r_max = 5 mm and γ_max = 5° are the ranges of the paper's training data
-// (sec:data_collection: shear disk radius 5 mm, γ ∈ [−5°, 5°], "chosen to limit slippage").
+// (Section 3.1.2, sec:data_collection: shear disk radius 5 mm, γ ∈ [−5°, 5°], "chosen to limit slippage").
 //
 // The anchor lives in the object frame, so a moving object (tracking leader, pushed prism)
 // drags the contact with it.  Out of contact (z ≤ 0) the anchor is released.

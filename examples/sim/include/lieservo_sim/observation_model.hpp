@@ -1,6 +1,6 @@
 // lieservo_sim/observation_model.hpp — GDN-like pose-and-shear observations (μ, σ).
 //
-// The real GDN (examples/gdn, paper sec:gdn_model) maps a tactile image to a Gaussian over
+// The real GDN (examples/gdn, paper Section 3.1.5 (sec:gdn_model)) maps a tactile image to a Gaussian over
 // ξ = log(X_sf)^∨ = [ρ; φ] (X_sf = X_fs⁻¹, translation first; here mm and RADIANS).  This model
 // produces the same output from the true contact pose:
 //
@@ -9,10 +9,10 @@
 //     h_i = a0_i + a_r,i · |s| / 5 mm + a_z,i · max(0, 1.5 mm − z) / 1 mm
 //               + a_t,i · max(0, tilt − 25°) / 10°   (+ ×4 out of contact)
 //
-// σ grows with the shear magnitude |s| (aliasing under slip, paper sec:nn_pose_shear_estimate_exp
+// σ grows with the shear magnitude |s| (aliasing under slip, paper Section 5.2 (sec:nn_pose_shear_estimate_exp)
 // discussion), at shallow depth (weak images) and outside the training cap of tilts (25°).
 // Calibration: σ̄_i is set so that the mean absolute error over the paper's training
-// distribution (|s| = 5√u mm, z ~ U[0.5, 6] mm, tilt within 25°, sec:data_collection) equals
+// distribution (|s| = 5√u mm, z ~ U[0.5, 6] mm, tilt within 25°, Section 3.1.2 (sec:data_collection)) equals
 // the calibration MAE_i:  E|σ ε| = σ·sqrt(2/π)  ⇒  σ̄_i = MAE_i · sqrt(π/2) / E[h_i],
 // with E[|s|/5] = 2/3, E[max(0, 1.5 − z)] = 1/11 mm, E[tilt term] = 0.
 // Source of MAE_i: the project's trained GDN, examples/gdn/models/model_card.json, validation

@@ -2,7 +2,7 @@
 //
 // The arm holding a TacTip is velocity-servoed and position-stiff: RobotInterface's commanded
 // twist u = [v (mm/s); ω (rad/s)] is a BODY twist in the current sensor frame {s} (the
-// controllers' output, sec:servoing_controller): each call sets the twist the sensor moves
+// controllers' output, Section 3.3.2 (sec:servoing_controller)): each call sets the twist the sensor moves
 // with, and each World::step moves it by right multiplication, X_ws ← X_ws · exp(u h), with
 // MuJoCo seeing that velocity. The twist applied is the commanded one capped at speed limits
 // (norms, direction kept) and reached no faster than the acceleration limits allow: the

@@ -1,8 +1,8 @@
-// lieservo_sim/tasks.hpp — the paper's four tasks in simulation (sec:obj_pose_tracking_exp …
-// sec:dual_arm_tall_object_pushing), each closing the loop of the paper's Figure 1:
+// lieservo_sim/tasks.hpp — the paper's four tasks in simulation (Section 5.4, sec:obj_pose_tracking_exp …
+// Section 5.7.2 (sec:dual_arm_tall_object_pushing)), each closing the loop of the paper's Figure 1:
 //
 //   true contact (ContactModel) → GDN-like (μ, σ) (GdnObservationModel)
-//   → fromTangentGaussian (eq:se3_inverse_transform) → DiscriminativeBayesFilter (alg:se3_bayes_filter)
+//   → fromTangentGaussian (eq. 14, eq:se3_inverse_transform) → DiscriminativeBayesFilter (Algorithm 2, alg:se3_bayes_filter)
 //   → controller (TactileServoController / PushingController / DualArmPushing, paper presets)
 //   → sensor body twist → the arm (X_ws ← X_ws exp(u Δt) per MuJoCo step) → the engine steps.
 //
@@ -95,7 +95,7 @@ FollowingResult runSurfaceFollowing(const TaskOptions& opt);
 using mujoco::ObjectSpec;
 using mujoco::SupportSpec;
 
-std::vector<ObjectSpec> shortObjects();    ///< the four prisms of sec:single_arm_object_pushing_exp
+std::vector<ObjectSpec> shortObjects();    ///< the four prisms of Section 5.6 (sec:single_arm_object_pushing_exp)
 std::vector<ObjectSpec> tallObjects();     ///< their double-height versions (Figure 9 masses)
 std::vector<ObjectSpec> everydayObjects(); ///< tall everyday-like objects from primitives
 /// The object's name for tables and plots ("blue_square" → "blue square").
@@ -105,7 +105,7 @@ struct PushingSetup {
   ObjectSpec object;
   SupportSpec surface = SupportSpec::mdf();
   bool dual_arm = false;
-  bool tall = false;               ///< tall-object reference offsets (sec:dual_arm_tall_object_pushing)
+  bool tall = false;               ///< tall-object reference offsets (Section 5.7.2, sec:dual_arm_tall_object_pushing)
   double gel_stiffness = 1.0;      ///< N/mm (mujoco::SensorSpec::gel_stiffness)
   Vec2 start{-250, 100};           ///< leader sensor (x, y) on the support (mm)
   Vec2 target{0, 375};             ///< (x, y)

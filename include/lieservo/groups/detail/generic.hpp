@@ -12,7 +12,7 @@
 namespace lieservo {
 namespace detail {
 
-/// Truncated inverse-Jacobian series Σ_{n=0}^{N} (B_n/n!) (ξ⋏)^n (eqn:inv_jacobian_def),
+/// Truncated inverse-Jacobian series Σ_{n=0}^{N} (B_n/n!) (ξ⋏)^n (eq. 34, eqn:inv_jacobian_def),
 /// evaluated by Horner's rule in ad(ξ). Converges for |θ| < 2π.
 template <class G, int N>
 inline typename G::Jacobian inverseJacobianSeries(const typename G::Tangent& xi) {

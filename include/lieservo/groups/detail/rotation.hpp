@@ -13,7 +13,7 @@
 namespace lieservo {
 namespace detail {
 
-/// φ^ : the skew-symmetric matrix with φ^ v = φ × v (eqn:so3_hat_operator).
+/// φ^ : the skew-symmetric matrix with φ^ v = φ × v (eq. 29, eqn:so3_hat_operator).
 template <class Scalar>
 inline Eigen::Matrix<Scalar, 3, 3> skew(const Eigen::Matrix<Scalar, 3, 1>& p) {
   Eigen::Matrix<Scalar, 3, 3> m;

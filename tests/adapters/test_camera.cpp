@@ -8,18 +8,18 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "lieservo_adapters/camera.hpp"
-#include "perception_test_util.hpp"
+#include "file_test_util.hpp"
 #include "synthetic_frames.hpp"
 
 using namespace lieservo::adapters;
 
-TEST_CASE("camera: image sequence of real processed images", "[perception][camera][data]") {
+TEST_CASE("camera: image sequence of real processed images", "[adapters][camera][data]") {
   const std::string src = std::string(LIESERVO_DATA_DIR) + "/val/processed_images";
-  if (!perception_test::exists(src + "/image_1.png")) {
+  if (!file_test::exists(src + "/image_1.png")) {
     WARN("TacTip data not found under " << LIESERVO_DATA_DIR << ": skipping");
     return;
   }
-  const std::string dir = perception_test::makeTempDir("cam");
+  const std::string dir = file_test::makeTempDir("cam");
   const int n = 5;
   for (int i = 1; i <= n; ++i)
     std::filesystem::copy_file(src + "/image_" + std::to_string(i) + ".png",
@@ -54,19 +54,19 @@ TEST_CASE("camera: image sequence of real processed images", "[perception][camer
   REQUIRE_FALSE(wrong.ok());
   CHECK(wrong.error().code == ErrorCode::wrong_size);
   CHECK(wrong.error().message.find("640x480") != std::string::npos);
-  perception_test::removeTree(dir);
+  file_test::removeTree(dir);
 }
 
-TEST_CASE("camera: image sequence of synthetic raw frames", "[perception][camera]") {
-  const std::string dir = perception_test::makeTempDir("camraw");
+TEST_CASE("camera: image sequence of synthetic raw frames", "[adapters][camera]") {
+  const std::string dir = file_test::makeTempDir("camraw");
   const Preprocessor pre;
-  for (int i = 0; i < 3; ++i) cv::imwrite(dir + "/frame_" + std::to_string(i) + ".png", perception_test::makeRawFrame(3 * i).bgr);
+  for (int i = 0; i < 3; ++i) cv::imwrite(dir + "/frame_" + std::to_string(i) + ".png", synthetic::makeRawFrame(3 * i).bgr);
   TactileCamera cam(dir + "/frame_%d.png", pre);
   for (int i = 0; i < 3; ++i) {
     auto f = cam.next();
     REQUIRE(f.ok());
     CHECK(f->raw.size() == cv::Size(640, 480));
-    auto expected = pre.processRaw(perception_test::makeRawFrame(3 * i).bgr);
+    auto expected = pre.processRaw(synthetic::makeRawFrame(3 * i).bgr);
     REQUIRE(expected.ok());
     CHECK(cv::norm(f->image, *expected, cv::NORM_INF) == 0.0);
   }
@@ -86,17 +86,17 @@ TEST_CASE("camera: image sequence of synthetic raw frames", "[perception][camera
   CHECK(gone.error().message.find("camera lost") != std::string::npos);
   CHECK(gone.error().message.find("after 3 frames") != std::string::npos);
   CHECK(lost.next().error().code == ErrorCode::camera_lost);
-  perception_test::removeTree(dir);
+  file_test::removeTree(dir);
 }
 
-TEST_CASE("camera: missing sources throw at set-up with the path", "[perception][camera]") {
+TEST_CASE("camera: missing sources throw at set-up with the path", "[adapters][camera]") {
   const Preprocessor pre;
   CHECK_THROWS_WITH(TactileCamera("/nonexistent/dir/image_%d.png", pre), Catch::Contains("/nonexistent/dir/image_%d.png"));
   CHECK_THROWS_WITH(TactileCamera("/nonexistent/video.mp4", pre), Catch::Contains("cannot open"));
   CHECK_THROWS_WITH(TactileCamera(std::string(), pre), Catch::Contains("empty source path"));
-  const std::string dir = perception_test::makeTempDir("camempty");
+  const std::string dir = file_test::makeTempDir("camempty");
   CHECK_THROWS(TactileCamera(dir + "/image_%d.png", pre));  // pattern matches nothing
-  perception_test::removeTree(dir);
+  file_test::removeTree(dir);
   CameraOptions processed;
   processed.input = FrameInput::processed;
   CHECK_THROWS_WITH(TactileCamera(0, pre, processed), Catch::Contains("raw frames"));

@@ -1,4 +1,4 @@
-// TacTip pre-processing (paper sec:pre_post_processing) on synthetic raw frames and on
+// TacTip pre-processing (paper Section 3.1.3 (sec:pre_post_processing)) on synthetic raw frames and on
 // the data set's processed images.
 #include <catch2/catch.hpp>
 
@@ -10,14 +10,14 @@
 #include <opencv2/imgproc.hpp>
 
 #include "lieservo_adapters/preprocessing.hpp"
-#include "perception_test_util.hpp"
+#include "file_test_util.hpp"
 #include "synthetic_frames.hpp"
 
 using namespace lieservo::adapters;
 
-TEST_CASE("preprocessing: synthetic raw frame -> binary crop and 128x128 network input", "[perception][preprocessing]") {
+TEST_CASE("preprocessing: synthetic raw frame -> binary crop and 128x128 network input", "[adapters][preprocessing]") {
   const Preprocessor pre;  // the data set's parameters are the defaults
-  const perception_test::SyntheticFrame sf = perception_test::makeRawFrame(7);
+  const synthetic::SyntheticFrame sf = synthetic::makeRawFrame(7);
   REQUIRE(sf.bgr.size() == cv::Size(640, 480));
 
   auto bin = pre.binarise(sf.bgr);
@@ -64,7 +64,7 @@ TEST_CASE("preprocessing: synthetic raw frame -> binary crop and 128x128 network
   CHECK(cv::norm(*pre.processRaw(bgra), *in, cv::NORM_INF) == 0.0);
 }
 
-TEST_CASE("preprocessing: wrong sizes, types and empty images give clear errors", "[perception][preprocessing]") {
+TEST_CASE("preprocessing: wrong sizes, types and empty images give clear errors", "[adapters][preprocessing]") {
   const Preprocessor pre;
   auto r1 = pre.processRaw(cv::Mat::zeros(440, 445, CV_8UC1));
   REQUIRE_FALSE(r1.ok());
@@ -93,12 +93,12 @@ TEST_CASE("preprocessing: wrong sizes, types and empty images give clear errors"
   CHECK(r6.error().code == ErrorCode::io_error);
   CHECK(r6.error().message.find("/nonexistent/image_1.png") != std::string::npos);
 
-  const std::string dir = perception_test::makeTempDir("prep");
+  const std::string dir = file_test::makeTempDir("prep");
   std::ofstream(dir + "/not_an_image.png") << "this is not a PNG";
   auto r7 = pre.loadProcessed(dir + "/not_an_image.png");
   REQUIRE_FALSE(r7.ok());
   CHECK(r7.error().code == ErrorCode::io_error);
-  perception_test::removeTree(dir);
+  file_test::removeTree(dir);
 
   CHECK(std::string(describe(ErrorCode::camera_lost)) == "camera lost");
 
@@ -107,9 +107,9 @@ TEST_CASE("preprocessing: wrong sizes, types and empty images give clear errors"
   CHECK_THROWS_WITH(Preprocessor(bad), Catch::Contains("outside"));
 }
 
-TEST_CASE("preprocessing: the data set's processed images", "[perception][preprocessing][data]") {
+TEST_CASE("preprocessing: the data set's processed images", "[adapters][preprocessing][data]") {
   const std::string val = std::string(LIESERVO_DATA_DIR) + "/val";
-  if (!perception_test::exists(val + "/processed_images/image_1.png")) {
+  if (!file_test::exists(val + "/processed_images/image_1.png")) {
     WARN("TacTip data not found under " << LIESERVO_DATA_DIR << ": skipping");
     return;
   }
@@ -147,10 +147,10 @@ TEST_CASE("preprocessing: the data set's processed images", "[perception][prepro
 
 // processed_image_params.json goes through the shared JSON reader (examples/dataset):
 // malformed files and wrongly typed values name the file, line and column.
-TEST_CASE("preprocessing: params file errors name the path (and line:column)", "[perception][preprocessing][json]") {
+TEST_CASE("preprocessing: params file errors name the path (and line:column)", "[adapters][preprocessing][json]") {
   CHECK_THROWS_WITH(PreprocessParams::fromJsonFile("/nonexistent/dir/params.json"),
                     Catch::Contains("/nonexistent/dir/params.json") && Catch::Contains("cannot open"));
-  const std::string dir = perception_test::makeTempDir("json");
+  const std::string dir = file_test::makeTempDir("json");
   const std::string bad = dir + "/processed_image_params.json";
   std::ofstream(bad) << "{\"gray\": true, \"bbox\": [105, 20, 550 460]}";
   CHECK_THROWS_WITH(PreprocessParams::fromJsonFile(bad), Catch::Contains(bad + ":1:"));
@@ -171,12 +171,12 @@ TEST_CASE("preprocessing: params file errors name the path (and line:column)", "
   CHECK_FALSE(ok.threshold);
   CHECK(ok.circle_mask_radius == 0);
   CHECK(ok.output_size == 64);
-  perception_test::removeTree(dir);
+  file_test::removeTree(dir);
 }
 
-TEST_CASE("preprocessing: the data set's processed_image_params.json", "[perception][preprocessing][json][data]") {
+TEST_CASE("preprocessing: the data set's processed_image_params.json", "[adapters][preprocessing][json][data]") {
   const std::string val = std::string(LIESERVO_DATA_DIR) + "/val";
-  if (!perception_test::exists(val + "/processed_image_params.json")) {
+  if (!file_test::exists(val + "/processed_image_params.json")) {
     WARN("TacTip data not found under " << LIESERVO_DATA_DIR << ": skipping");
     return;
   }

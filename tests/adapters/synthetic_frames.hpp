@@ -8,7 +8,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
-namespace perception_test {
+namespace synthetic {
 
 struct SyntheticFrame {
   cv::Mat bgr;                             ///< 640 x 480, CV_8UC3
@@ -44,4 +44,4 @@ inline SyntheticFrame makeRawFrame(int shift, unsigned seed = 1) {
   return f;
 }
 
-}  // namespace perception_test
+}  // namespace synthetic

@@ -1,5 +1,5 @@
 // The ONNX pose-model adapter on the tiny committed test models
-// (tests/perception/data/make_tiny_model.py): cv::dnn against the PyTorch reference,
+// (tests/adapters/data/make_tiny_model.py): cv::dnn against the PyTorch reference,
 // unit conversion from the model card, batch = singles, and error paths.
 #include <catch2/catch.hpp>
 
@@ -10,13 +10,13 @@
 
 #include "lieservo_adapters/gdn_observation.hpp"
 #include "lieservo_adapters/onnx_pose_model.hpp"
-#include "perception_test_util.hpp"
+#include "file_test_util.hpp"
 
 using namespace lieservo::adapters;
 
 namespace {
 
-const std::string kData = LIESERVO_PERCEPTION_TEST_DATA;
+const std::string kData = LIESERVO_ADAPTERS_TEST_DATA;
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
 
 /// Same synthetic inputs as make_tiny_model.py.
@@ -29,7 +29,7 @@ cv::Mat syntheticInput(int k) {
 }
 
 std::vector<double> reference(const std::string& model, int k) {
-  for (const auto& row : perception_test::readCsv(kData + "/tiny_reference.csv")) {
+  for (const auto& row : file_test::readCsv(kData + "/tiny_reference.csv")) {
     if (row.size() < 3 || row[0] != model || row[1] != std::to_string(k)) continue;
     std::vector<double> v;
     for (std::size_t i = 2; i < row.size(); ++i) v.push_back(std::stod(row[i]));
@@ -40,7 +40,7 @@ std::vector<double> reference(const std::string& model, int k) {
 
 }  // namespace
 
-TEST_CASE("onnx: model card parsing", "[perception][onnx]") {
+TEST_CASE("onnx: model card parsing", "[adapters][onnx]") {
   const ModelCard g = ModelCard::fromJsonFile(kData + "/tiny_model_card.json", ModelKind::gdn);
   CHECK(g.outputs == 12);
   CHECK(g.input_size == 128);
@@ -53,7 +53,7 @@ TEST_CASE("onnx: model card parsing", "[perception][onnx]") {
   CHECK(c.outputs == 6);
   CHECK(c.to_library[4] == Approx(kDeg));
 
-  const std::string dir = perception_test::makeTempDir("card");
+  const std::string dir = file_test::makeTempDir("card");
   const std::string flat = dir + "/card.json";
   std::ofstream(flat) << R"({"kind": "gdn", "input_size": 128, "outputs": 12, "file": "m.onnx",
                              "output_units": ["mm", "mm", "mm", "rad", "rad", "rad"]})";
@@ -73,15 +73,15 @@ TEST_CASE("onnx: model card parsing", "[perception][onnx]") {
   std::ofstream(flat) << "{\"models\": {\"gdn\": ";
   CHECK_THROWS_WITH(ModelCard::fromJsonFile(flat, ModelKind::gdn), Catch::Contains(flat + ":1:"));
   CHECK_THROWS_WITH(ModelCard::fromJsonFile(dir + "/none.json", ModelKind::gdn), Catch::Contains("cannot open"));
-  perception_test::removeTree(dir);
+  file_test::removeTree(dir);
 }
 
-TEST_CASE("onnx: a card's sigma calibration scales sigma and nothing else", "[perception][onnx]") {
+TEST_CASE("onnx: a card's sigma calibration scales sigma and nothing else", "[adapters][onnx]") {
   const ModelCard plain = ModelCard::fromJsonFile(kData + "/tiny_model_card.json", ModelKind::gdn);
   CHECK_FALSE(plain.hasSigmaCalibration());
   CHECK(plain.sigma_calibration_source.empty());
 
-  const std::string dir = perception_test::makeTempDir("calib");
+  const std::string dir = file_test::makeTempDir("calib");
   const std::string card = dir + "/card.json";
   std::ofstream(card) << R"({"models": {"gdn": {"file": "g.onnx", "input": {"shape": [1, 1, 128, 128]},
       "output": {"shape": [1, 12], "units": ["mm", "mm", "mm", "deg", "deg", "deg"]},
@@ -120,10 +120,10 @@ TEST_CASE("onnx: a card's sigma calibration scales sigma and nothing else", "[pe
   std::ofstream(card) << R"({"kind": "cnn", "input_size": 128, "outputs": 6, "output_units": ["mm", "mm", "mm", "deg", "deg", "deg"],
                              "sigma_calibration": {"scale": [1, 1, 1, 2, 2, 1]}})";
   CHECK_THROWS_WITH(ModelCard::fromJsonFile(card, ModelKind::cnn), Catch::Contains("no sigma to calibrate"));
-  perception_test::removeTree(dir);
+  file_test::removeTree(dir);
 }
 
-TEST_CASE("onnx: tiny GDN through cv::dnn matches PyTorch and converts units", "[perception][onnx]") {
+TEST_CASE("onnx: tiny GDN through cv::dnn matches PyTorch and converts units", "[adapters][onnx]") {
   OnnxPoseModel gdn = OnnxPoseModel::fromCard(kData + "/tiny_model_card.json", ModelKind::gdn);
   REQUIRE(gdn.hasUncertainty());
   std::vector<cv::Mat> batch;
@@ -160,7 +160,7 @@ TEST_CASE("onnx: tiny GDN through cv::dnn matches PyTorch and converts units", "
   for (std::size_t j = 0; j < 12; ++j) CHECK(a->raw[j] == Approx(b->raw[j]).margin(1e-6));
 }
 
-TEST_CASE("onnx: tiny CNN regression mode returns mu only", "[perception][onnx]") {
+TEST_CASE("onnx: tiny CNN regression mode returns mu only", "[adapters][onnx]") {
   OnnxPoseModel cnn = OnnxPoseModel::fromCard(kData + "/tiny_model_card.json", ModelKind::cnn);
   CHECK_FALSE(cnn.hasUncertainty());
   for (int k = 0; k < 3; ++k) {
@@ -177,7 +177,7 @@ TEST_CASE("onnx: tiny CNN regression mode returns mu only", "[perception][onnx]"
   }
 }
 
-TEST_CASE("onnx: wrong inputs and missing or malformed models give clear errors", "[perception][onnx]") {
+TEST_CASE("onnx: wrong inputs and missing or malformed models give clear errors", "[adapters][onnx]") {
   OnnxPoseModel gdn = OnnxPoseModel::fromCard(kData + "/tiny_model_card.json", ModelKind::gdn);
   auto r1 = gdn.predict(cv::Mat::zeros(440, 445, CV_32F));
   REQUIRE_FALSE(r1.ok());
@@ -201,16 +201,16 @@ TEST_CASE("onnx: wrong inputs and missing or malformed models give clear errors"
 
   const ModelCard card = ModelCard::fromJsonFile(kData + "/tiny_model_card.json", ModelKind::gdn);
   CHECK_THROWS_WITH(OnnxPoseModel("/nonexistent/gdn.onnx", card), Catch::Contains("not found"));
-  const std::string dir = perception_test::makeTempDir("onnx");
+  const std::string dir = file_test::makeTempDir("onnx");
   std::ofstream(dir + "/garbage.onnx") << "definitely not a protobuf";
   CHECK_THROWS_WITH(OnnxPoseModel(dir + "/garbage.onnx", card), Catch::Contains(dir + "/garbage.onnx"));
   // A CNN file loaded with a GDN card: output-count mismatch caught at load.
   CHECK_THROWS_WITH(OnnxPoseModel(kData + "/tiny_cnn.onnx", card), Catch::Contains("does not match its card"));
-  perception_test::removeTree(dir);
+  file_test::removeTree(dir);
 }
 
-TEST_CASE("onnx: a GDN prediction as the SE(3) observation Gaussian (eq:se3_inverse_transform)",
-          "[perception][onnx][estimation]") {
+TEST_CASE("onnx: a GDN prediction as the SE(3) observation Gaussian (eq. 14, eq:se3_inverse_transform)",
+          "[adapters][onnx][estimation]") {
   OnnxPoseModel gdn = OnnxPoseModel::fromCard(kData + "/tiny_model_card.json", ModelKind::gdn);
   auto p = gdn.predict(syntheticInput(1));
   REQUIRE(p.ok());

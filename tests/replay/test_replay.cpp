@@ -14,7 +14,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "lieservo/estimation/concentrated_gaussian.hpp"
-#include "perception_test_util.hpp"
+#include "file_test_util.hpp"
 #include "plots.hpp"
 #include "replay.hpp"
 
@@ -25,8 +25,8 @@ namespace {
 
 /// A models dir laid out like examples/gdn/models, holding the tiny random test models.
 std::string tinyModelsDir(const char* name) {
-  const std::string tiny = std::string(LIESERVO_SOURCE_DIR) + "/tests/perception/data";
-  const std::string models = perception_test::makeTempDir(name);
+  const std::string tiny = std::string(LIESERVO_SOURCE_DIR) + "/tests/adapters/data";
+  const std::string models = file_test::makeTempDir(name);
   namespace fs = std::filesystem;
   fs::copy_file(tiny + "/tiny_model_card.json", models + "/model_card.json");
   fs::copy_file(tiny + "/tiny_gdn.onnx", models + "/tiny_gdn.onnx");
@@ -55,8 +55,8 @@ std::array<int, 6> markerPixels(const std::string& png) {
 }  // namespace
 
 TEST_CASE("replay: every scatter-plot panel shows its data, an empty plot shows none",
-          "[perception][replay][plots]") {
-  const std::string dir = perception_test::makeTempDir("replay_plots");
+          "[replay][plots]") {
+  const std::string dir = file_test::makeTempDir("replay_plots");
   // 50 points per component inside the axes (actual = predicted ± a little).
   std::vector<std::array<double, 6>> actual, predicted, precision;
   std::mt19937 rng(7);
@@ -87,13 +87,13 @@ TEST_CASE("replay: every scatter-plot panel shows its data, an empty plot shows 
   for (int c = 0; c < 6; ++c) CHECK(none[static_cast<std::size_t>(c)] == 0);
 }
 
-TEST_CASE("replay: labels match the Python reference (examples/gdn/labels_reference.csv)", "[perception][replay]") {
+TEST_CASE("replay: labels match the Python reference (examples/gdn/labels_reference.csv)", "[replay]") {
   const std::string path = std::string(LIESERVO_SOURCE_DIR) + "/examples/gdn/labels_reference.csv";
-  if (!perception_test::exists(path)) {
+  if (!file_test::exists(path)) {
     WARN(path << " not found: skipping");
     return;
   }
-  const auto rows = perception_test::readCsv(path);
+  const auto rows = file_test::readCsv(path);
   REQUIRE(rows.size() > 5);
   REQUIRE(rows[0].size() == 13);
   for (std::size_t r = 1; r < rows.size(); ++r) {
@@ -104,8 +104,8 @@ TEST_CASE("replay: labels match the Python reference (examples/gdn/labels_refere
   }
 }
 
-TEST_CASE("replay: targets.csv reading and its errors", "[perception][replay]") {
-  const std::string dir = perception_test::makeTempDir("targets");
+TEST_CASE("replay: targets.csv reading and its errors", "[replay]") {
+  const std::string dir = file_test::makeTempDir("targets");
   const std::string csv = dir + "/targets.csv";
   const std::string header =
       "sensor_image,pose_x,pose_y,pose_z,pose_Rx,pose_Ry,pose_Rz,shear_x,shear_y,shear_z,shear_Rx,shear_Ry,shear_Rz\n";
@@ -125,7 +125,7 @@ TEST_CASE("replay: targets.csv reading and its errors", "[perception][replay]") 
   std::ofstream(csv) << header << "image_1.png,0,0\n";
   CHECK_THROWS_WITH(readTargets(csv), Catch::Contains(csv + ":2") && Catch::Contains("row has 3 fields"));
   CHECK_THROWS_WITH(readTargets(dir + "/none.csv"), Catch::Contains("cannot open"));
-  perception_test::removeTree(dir);
+  file_test::removeTree(dir);
 }
 
 namespace {
@@ -158,7 +158,7 @@ void syntheticSequence(std::size_t n, std::vector<Sample>& samples, std::vector<
 
 }  // namespace
 
-TEST_CASE("replay: Table 2 filter experiment on a synthetic sequence", "[perception][replay][filter]") {
+TEST_CASE("replay: Table 2 filter experiment on a synthetic sequence", "[replay][filter]") {
   std::vector<Sample> samples;
   std::vector<ConcentratedGaussian<SE3d>> obs;
   syntheticSequence(400, samples, obs);
@@ -185,9 +185,9 @@ TEST_CASE("replay: Table 2 filter experiment on a synthetic sequence", "[percept
   for (std::size_t j = 0; j < 6; ++j) CHECK(again.row.mae[j] == f01.row.mae[j]);
 }
 
-TEST_CASE("replay: end to end on real images with the tiny test models", "[perception][replay][data]") {
+TEST_CASE("replay: end to end on real images with the tiny test models", "[replay][data]") {
   const std::string data = LIESERVO_DATA_DIR;
-  if (!perception_test::exists(data + "/val/targets.csv")) {
+  if (!file_test::exists(data + "/val/targets.csv")) {
     WARN("TacTip data not found under " << data << ": skipping");
     return;
   }
@@ -271,11 +271,11 @@ TEST_CASE("replay: end to end on real images with the tiny test models", "[perce
   std::filesystem::remove(models + "/tiny_gdn.onnx");
   o.cache_file.clear();
   CHECK_THROWS_WITH(runReplay(o), Catch::Contains("tiny_gdn.onnx"));
-  perception_test::removeTree(models);
+  file_test::removeTree(models);
 }
 
-TEST_CASE("replay: the report's caveat comes from the model card and the split", "[perception][replay]") {
-  const std::string dir = perception_test::makeTempDir("replay_card");
+TEST_CASE("replay: the report's caveat comes from the model card and the split", "[replay]") {
+  const std::string dir = file_test::makeTempDir("replay_card");
   const std::string card = dir + "/model_card.json";
   std::ofstream(card) << R"J({"data": {"train": 6000, "val": 2000, "test": "not used (held out)"},
     "models": {"gdn": {"training": {"early_stopping": "patience 25 on val loss"}}}})J";
@@ -292,9 +292,9 @@ TEST_CASE("replay: the report's caveat comes from the model card and the split",
              Catch::Matchers::Contains("model selection"));
 }
 
-TEST_CASE("replay: --split replays another split of the data", "[perception][replay][data]") {
+TEST_CASE("replay: --split replays another split of the data", "[replay][data]") {
   const std::string data = LIESERVO_DATA_DIR;
-  if (!perception_test::exists(data + "/train/targets.csv")) {
+  if (!file_test::exists(data + "/train/targets.csv")) {
     WARN("TacTip data not found under " << data << ": skipping");
     return;
   }

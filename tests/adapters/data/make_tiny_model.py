@@ -1,7 +1,7 @@
 #!/usr/bin/python3
-"""Generate the tiny ONNX test models used by tests/perception (committed, < 50 kB).
+"""Generate the tiny ONNX test models used by tests/adapters (committed, < 50 kB).
 
-    /usr/bin/python3 tests/perception/data/make_tiny_model.py
+    /usr/bin/python3 tests/adapters/data/make_tiny_model.py
 
 Writes, next to this script:
   tiny_gdn.onnx   [N,1,128,128] -> [N,12] = (mu_1..6, sigma^-1_1..6), same layer types as the
@@ -135,7 +135,7 @@ def main():
             f.write('cnn,%d,' % k + ','.join('%.9g' % v for v in yc[k]) + '\n')
 
     card = {
-        'name': 'tiny random test models (NOT trained) for tests/perception',
+        'name': 'tiny random test models (NOT trained) for tests/adapters',
         'models': {
             'gdn': {'file': 'tiny_gdn.onnx',
                     'input': {'name': 'input', 'shape': ['N', 1, SIZE, SIZE], 'dtype': 'float32'},

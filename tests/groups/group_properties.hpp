@@ -329,7 +329,7 @@ void checkSeriesConvergence(const char* name) {
   }
 }
 
-/// BCH approximations (eqn:bch_approx) against exact log(exp·exp), double only: the error
+/// BCH approximations (eq. 32, eqn:bch_approx) against exact log(exp·exp), double only: the error
 /// is O(|ξ_small|²), so halving the small argument divides it by about 4.
 template <class G>
 void checkBch() {

@@ -75,7 +75,7 @@ TEMPLATE_TEST_CASE("SE3 sampling and cast", "[core][se3]", float, double) {
   lst::checkSamplingAndCast<SE3<TestType>>();
 }
 
-/// J(ξ) = Σ_{n≥0} ad(ξ)^n/(n+1)! (eqn:left_jacobian_def), summed in long double.
+/// J(ξ) = Σ_{n≥0} ad(ξ)^n/(n+1)! (eq. 33, eqn:left_jacobian_def), summed in long double.
 static Eigen::Matrix<long double, 6, 6> leftJacobianSeriesLd(const Eigen::Matrix<double, 6, 1>& xi) {
   using Ml = Eigen::Matrix<long double, 6, 6>;
   const Ml ad = lieservo::SE3d::ad(xi).cast<long double>();

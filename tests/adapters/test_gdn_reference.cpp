@@ -10,26 +10,26 @@
 
 #include "lieservo_adapters/onnx_pose_model.hpp"
 #include "lieservo_adapters/preprocessing.hpp"
-#include "perception_test_util.hpp"
+#include "file_test_util.hpp"
 
 using namespace lieservo::adapters;
 
-TEST_CASE("gdn: C++ inference on real images matches the recorded PyTorch outputs", "[perception][onnx][data][gdn]") {
+TEST_CASE("gdn: C++ inference on real images matches the recorded PyTorch outputs", "[adapters][onnx][data][gdn]") {
   const std::string models = LIESERVO_GDN_MODELS_DIR;
   const std::string val = std::string(LIESERVO_DATA_DIR) + "/val";
   const std::string card = models + "/model_card.json", csv = models + "/gdn_reference_outputs.csv";
-  if (!perception_test::exists(models + "/gdn.onnx") || !perception_test::exists(card) ||
-      !perception_test::exists(csv)) {
+  if (!file_test::exists(models + "/gdn.onnx") || !file_test::exists(card) ||
+      !file_test::exists(csv)) {
     WARN("real GDN not exported yet (" << models << "/{gdn.onnx,model_card.json,gdn_reference_outputs.csv}): skipping");
     return;
   }
-  if (!perception_test::exists(val + "/processed_images/image_1.png")) {
+  if (!file_test::exists(val + "/processed_images/image_1.png")) {
     WARN("TacTip data not found under " << LIESERVO_DATA_DIR << ": skipping");
     return;
   }
   const Preprocessor pre(PreprocessParams::fromJsonFile(val + "/processed_image_params.json"));
   OnnxPoseModel gdn = OnnxPoseModel::fromCard(card, ModelKind::gdn);
-  const auto rows = perception_test::readCsv(csv);
+  const auto rows = file_test::readCsv(csv);
   REQUIRE(rows.size() >= 2);
   REQUIRE(rows[0].size() == 13);
   int checked = 0;

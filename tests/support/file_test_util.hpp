@@ -1,4 +1,4 @@
-// Small helpers shared by the perception tests (temp dirs, file checks, CSV).
+// Small file helpers shared by the adapter and replay tests (temp dirs, file checks, CSV).
 #pragma once
 
 #include <atomic>
@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace perception_test {
+namespace file_test {
 
 inline bool exists(const std::string& path) {
   std::error_code ec;
@@ -48,4 +48,4 @@ inline std::vector<std::vector<std::string>> readCsv(const std::string& path) {
   return rows;
 }
 
-}  // namespace perception_test
+}  // namespace file_test
