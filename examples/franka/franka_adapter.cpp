@@ -102,7 +102,7 @@ Status FrankaAdapter::readPose(SE3d& X_ws) {
   } catch (const std::exception& e) {  // franka::Exception, and std::invalid_argument (NaN commands)
     std::lock_guard<std::mutex> g(error_mutex_);
     last_error_ = e.what();
-    return Status::numerical_failure;
+    return Status::device_error;
   }
   return sensorPoseFromState(O_T_EE, X_ws);
 }
@@ -193,7 +193,7 @@ Status FrankaAdapter::recover() {
   } catch (const std::exception& e) {  // franka::Exception, and std::invalid_argument (NaN commands)
     std::lock_guard<std::mutex> g(error_mutex_);
     last_error_ = e.what();
-    return Status::numerical_failure;
+    return Status::device_error;
   }
   faulted_.store(false);
   return Status::ok;
@@ -270,7 +270,7 @@ Status FrankaAdapter::moveTo(const SE3d& X_ws_goal) {
     running_.store(false, std::memory_order_release);
     std::lock_guard<std::mutex> g(error_mutex_);
     last_error_ = e.what();
-    return Status::numerical_failure;
+    return Status::device_error;
   }
   running_.store(false, std::memory_order_release);
   if (failed) return Status::numerical_failure;

@@ -112,7 +112,8 @@ class FrankaAdapter final : public robot::RobotInterface {
   Status recover();
 
   FrankaAdapterStats stats() const;
-  /// The last libfranka exception text ("" if none).
+  /// The last libfranka exception text ("" if none); calls that met one returned
+  /// Status::device_error.
   std::string lastError() const;
 
  private:

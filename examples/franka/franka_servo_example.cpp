@@ -160,9 +160,9 @@ class OpenCvGdnFrontEnd final : public TactileFrontEnd {
     // Reference frame and noise level: the sensor must be OUT of contact now.
     std::vector<cv::Mat> frames;
     for (int i = 0; i < 30; ++i) {
-      auto f = camera_.next();
-      if (!f) throw std::runtime_error("camera: " + f.error().message);
-      frames.push_back(f->image.clone());
+      lieservo::adapters::CameraFrame f;
+      if (camera_.next(f) != Status::ok) throw std::runtime_error("camera: " + camera_.lastError());
+      frames.push_back(f.image.clone());
     }
     reference_ = cv::Mat::zeros(frames[0].size(), frames[0].type());
     for (const auto& f : frames) reference_ += f / static_cast<double>(frames.size());
@@ -173,25 +173,25 @@ class OpenCvGdnFrontEnd final : public TactileFrontEnd {
   }
 
   bool next(TactileSample& out, std::string& error) override {
-    auto f = camera_.next();
-    if (!f) {
-      error = "camera: " + f.error().message;
+    lieservo::adapters::CameraFrame f;
+    if (camera_.next(f) != Status::ok) {
+      error = "camera: " + camera_.lastError();
       return false;
     }
-    auto p = model_.predict(f->image);
-    if (!p) {
-      error = "model: " + p.error().message;
+    lieservo::adapters::Prediction p;
+    if (model_.predict(f.image, p) != Status::ok) {
+      error = "model: " + model_.lastError();
       return false;
     }
-    const Status s = lieservo::adapters::toObservation(*p, out.observation);
+    const Status s = lieservo::adapters::toObservation(p, out.observation);
     if (s != Status::ok) {
       error = std::string("observation: ") + lieservo::describe(s);
       return false;
     }
-    out.contact_statistic = statistic(f->image);
+    out.contact_statistic = statistic(f.image);
     contact_ = contact_ ? out.contact_statistic > 0.5 * threshold_ : out.contact_statistic > threshold_;
     out.in_contact = contact_;
-    out.stamp = f->stamp;
+    out.stamp = f.stamp;
     return true;
   }
 

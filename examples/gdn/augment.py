@@ -32,8 +32,13 @@ class AugmentOptions(NamedTuple):
 
 PRESETS = {
     'none': None,
+    # geometry and grey levels: shift, turn and scale the whole pattern, gamma, blur
     'session': AugmentOptions(shift_px=1.5, rot_deg=1.5, scale=0.03, gamma=1.5, p_blur=0.3,
                               blur_sigma_px=0.8),
+    # grey levels only (threshold and focus): the markers stay where they are, so shear and
+    # twist, which the network reads from marker displacements, are untouched
+    'photometric': AugmentOptions(shift_px=0.0, rot_deg=0.0, scale=0.0, gamma=1.5, p_blur=0.3,
+                                  blur_sigma_px=0.8),
 }
 
 
@@ -51,21 +56,15 @@ def _blur(x: torch.Tensor, sigma: torch.Tensor) -> torch.Tensor:
 
 def augment(x: torch.Tensor, opt: AugmentOptions, gen: torch.Generator) -> torch.Tensor:
     """A new batch: x [B,1,H,W] float in [0,1], each image transformed independently."""
-    b, _, h, w = x.shape
+    b = x.shape[0]
 
     def uniform(lo, hi):
         return lo + (hi - lo) * torch.rand(b, generator=gen)
 
-    ang = uniform(-opt.rot_deg, opt.rot_deg) * (math.pi / 180.0)
-    s = 1.0 + uniform(-opt.scale, opt.scale)
-    # affine_grid maps output coordinates in [-1, 1] to input coordinates: the inverse map.
-    c, sn = torch.cos(ang) / s, torch.sin(ang) / s
-    tx = uniform(-opt.shift_px, opt.shift_px) * (2.0 / w)
-    ty = uniform(-opt.shift_px, opt.shift_px) * (2.0 / h)
-    theta = torch.stack([torch.stack([c, -sn, tx], 1), torch.stack([sn, c, ty], 1)], 1)
-    grid = F.affine_grid(theta, list(x.shape), align_corners=False)
-    y = F.grid_sample(x, grid, mode='bilinear', padding_mode='zeros', align_corners=False)
-
+    if opt.shift_px == 0 and opt.rot_deg == 0 and opt.scale == 0:
+        y = x
+    else:
+        y = _similarity(x, opt, uniform)
     g = torch.exp(uniform(-math.log(opt.gamma), math.log(opt.gamma)))
     y = y.clamp(0.0, 1.0).pow(g.view(b, 1, 1, 1))
 
@@ -75,3 +74,17 @@ def augment(x: torch.Tensor, opt: AugmentOptions, gen: torch.Generator) -> torch
             sig = uniform(0.3, opt.blur_sigma_px)
             y[blur] = _blur(y[blur], sig[blur])
     return y
+
+
+def _similarity(x: torch.Tensor, opt: AugmentOptions, uniform) -> torch.Tensor:
+    """Each image shifted, turned and scaled about its centre (bilinear, zero outside)."""
+    _, _, h, w = x.shape
+    ang = uniform(-opt.rot_deg, opt.rot_deg) * (math.pi / 180.0)
+    s = 1.0 + uniform(-opt.scale, opt.scale)
+    # affine_grid maps output coordinates in [-1, 1] to input coordinates: the inverse map.
+    c, sn = torch.cos(ang) / s, torch.sin(ang) / s
+    tx = uniform(-opt.shift_px, opt.shift_px) * (2.0 / w)
+    ty = uniform(-opt.shift_px, opt.shift_px) * (2.0 / h)
+    theta = torch.stack([torch.stack([c, -sn, tx], 1), torch.stack([sn, c, ty], 1)], 1)
+    grid = F.affine_grid(theta, list(x.shape), align_corners=False)
+    return F.grid_sample(x, grid, mode='bilinear', padding_mode='zeros', align_corners=False)

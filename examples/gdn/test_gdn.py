@@ -329,6 +329,56 @@ def sigma_calibration_factors():
 
 
 @test
+def augment_presets():
+    # Values stay in [0, 1]; black stays black and white stays white under gamma (so the mask's
+    # outside stays 0); the same generator seed gives the same batch; 'photometric' moves no
+    # marker (the centroid of the image is unchanged to well under a pixel), 'session' does.
+    from augment import PRESETS, augment
+    assert PRESETS['none'] is None
+    x = torch.zeros(8, 1, 32, 32)
+    x[:, :, 8:12, 20:24] = 1.0
+    x[:, :, 20:23, 5:9] = 0.5
+    for name in ('photometric', 'session'):
+        a = augment(x, PRESETS[name], torch.Generator().manual_seed(5))
+        b = augment(x, PRESETS[name], torch.Generator().manual_seed(5))
+        assert torch.equal(a, b), name
+        assert a.shape == x.shape and float(a.min()) >= 0.0 and float(a.max()) <= 1.0, name
+        assert not torch.equal(a, x), name
+    yy, xx = torch.meshgrid(torch.arange(32.0), torch.arange(32.0), indexing='ij')
+
+    def centroid(img):
+        w = img[:, 0]
+        return torch.stack([(w * xx).sum((1, 2)), (w * yy).sum((1, 2))], 1) / w.sum((1, 2))[:, None]
+    no_blur = PRESETS['photometric']._replace(p_blur=0.0)
+    p = augment(x, no_blur, torch.Generator().manual_seed(1))
+    assert torch.equal(p[x == 0], x[x == 0]) and torch.equal(p[x == 1], x[x == 1])
+    blob = torch.zeros(8, 1, 32, 32)
+    blob[:, :, 8:12, 20:24] = 1.0          # one marker, away from the edges
+    moved = (centroid(augment(blob, PRESETS['photometric'], torch.Generator().manual_seed(2))) - centroid(blob)).norm(dim=1)
+    assert float(moved.max()) < 1e-3, moved
+    moved = (centroid(augment(blob, PRESETS['session'], torch.Generator().manual_seed(2))) - centroid(blob)).norm(dim=1)
+    assert float(moved.max()) > 0.3, moved
+
+
+@test
+def holdout_rows_per_session():
+    # Fixed per session, independent of the training seed, sorted, distinct; train keeps the
+    # file name calibrate_sigma.py and diagnose.py have always read.
+    from train import HOLDOUT_SEEDS, holdout_file, holdout_indices
+    a = holdout_indices(2000, 300, HOLDOUT_SEEDS['val'])
+    assert np.array_equal(a, holdout_indices(2000, 300, HOLDOUT_SEEDS['val']))
+    assert len(np.unique(a)) == 300 and np.all(np.diff(a) > 0) and a.max() < 2000
+    assert not np.array_equal(a, holdout_indices(2000, 300, HOLDOUT_SEEDS['train']))
+    assert holdout_file('train') == 'holdout.txt' and holdout_file('val') == 'holdout_val.txt'
+    for bad in (0, 2000):
+        try:
+            holdout_indices(2000, bad)
+            assert False, bad
+        except SystemExit:
+            pass
+
+
+@test
 def diagnose_power_calibration_recovers_exponent():
     # Errors with std a*sigma^b around a network that claims sigma: the quantile regression
     # recovers (a, b); b = 1 is the constant factor of sigma_calibration_factors. The fitted

@@ -41,6 +41,9 @@ const char* statusName(Status s) {
     case Status::outlier_rejected: return "outlier_rejected";
     case Status::not_converged: return "not_converged";
     case Status::numerical_failure: return "numerical_failure";
+    case Status::io_error: return "io_error";
+    case Status::end_of_stream: return "end_of_stream";
+    case Status::device_error: return "device_error";
   }
   return "unknown";
 }

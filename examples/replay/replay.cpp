@@ -131,10 +131,11 @@ std::vector<std::array<double, 12>> runNetwork(ad::OnnxPoseModel& model, const s
     const std::size_t end = std::min(images.size(), start + static_cast<std::size_t>(batch));
     std::vector<cv::Mat> b(images.begin() + static_cast<std::ptrdiff_t>(start),
                            images.begin() + static_cast<std::ptrdiff_t>(end));
-    auto r = model.predictBatch(b);
-    if (!r) throw std::runtime_error("inference on images " + std::to_string(start) + ".." + std::to_string(end - 1) +
-                                     ": " + r.error().message);
-    for (const auto& p : *r) out.push_back(p.raw);
+    std::vector<ad::Prediction> r;
+    if (model.predictBatch(b, r) != Status::ok)
+      throw std::runtime_error("inference on images " + std::to_string(start) + ".." + std::to_string(end - 1) +
+                               ": " + model.lastError());
+    for (const auto& p : r) out.push_back(p.raw);
   }
   return out;
 }
@@ -328,9 +329,9 @@ ReplayResults runReplay(const ReplayOptions& opt) {
     std::vector<cv::Mat> images;
     images.reserve(n);
     for (const Sample& s : samples) {
-      auto img = pre.loadProcessed(image_dir + "/" + s.image);
-      if (!img) throw std::runtime_error(img.error().message);
-      images.push_back(std::move(img.value()));
+      cv::Mat img;
+      if (pre.loadProcessed(image_dir + "/" + s.image, img) != Status::ok) throw std::runtime_error(pre.lastError());
+      images.push_back(std::move(img));
     }
     const auto t_loaded = Clock::now();
     res.seconds_load = seconds(t1, t_loaded);
@@ -355,10 +356,10 @@ ReplayResults runReplay(const ReplayOptions& opt) {
   auto predictions = [&](const ad::ModelCard& card) {
     std::vector<ad::Prediction> pred(n);
     for (std::size_t i = 0; i < n; ++i) {
-      auto p = ad::OnnxPoseModel::fromRaw(card, raw.gdn[i].data());
-      if (!p) throw std::runtime_error(samples[i].image + ": GDN output: " + p.error().message);
-      if (!p->sigma) throw std::runtime_error(card.onnx_file + ": the GDN card has no sigma outputs");
-      pred[i] = p.value();
+      std::string detail;
+      if (ad::OnnxPoseModel::fromRaw(card, raw.gdn[i].data(), pred[i], &detail) != Status::ok)
+        throw std::runtime_error(samples[i].image + ": GDN output: " + detail);
+      if (!pred[i].sigma) throw std::runtime_error(card.onnx_file + ": the GDN card has no sigma outputs");
     }
     return pred;
   };
@@ -367,9 +368,9 @@ ReplayResults runReplay(const ReplayOptions& opt) {
   if (with_cnn) {
     cnn_pred.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-      auto p = ad::OnnxPoseModel::fromRaw(cnn_card, raw.cnn[i].data());
-      if (!p) throw std::runtime_error(samples[i].image + ": CNN output: " + p.error().message);
-      cnn_pred[i] = p.value();
+      std::string detail;
+      if (ad::OnnxPoseModel::fromRaw(cnn_card, raw.cnn[i].data(), cnn_pred[i], &detail) != Status::ok)
+        throw std::runtime_error(samples[i].image + ": CNN output: " + detail);
     }
   }
   std::vector<Vec6> actual(n), gdn_mu(n), gdn_prec(n), cnn_mu;

@@ -1,8 +1,11 @@
-// lieservo/status.hpp — the error codes of the real-time path.
+// lieservo/status.hpp — the error codes of lieservo, core and adapters alike.
 //
 // Functions on the real-time path (filter and controller steps, checked
 // constructors) never throw and never allocate: they return a Status and leave
-// their outputs/state untouched unless the Status is Status::ok.
+// their outputs/state untouched unless the Status is Status::ok. The adapters at
+// the edges (camera, network, robot; examples/) report per-frame and per-cycle
+// errors the same way, with the last three codes for what only they meet, and a
+// human-readable detail from their lastError().
 #pragma once
 
 namespace lieservo {
@@ -18,6 +21,9 @@ enum class Status : int {
   outlier_rejected,      ///< an observation failed the chi-square gate (state predicted only)
   not_converged,         ///< an iteration hit its limit before its tolerance
   numerical_failure,     ///< a factorisation or result became non-finite
+  io_error,              ///< a file could not be read (adapters)
+  end_of_stream,         ///< a recorded source (video, image sequence) has no more frames (adapters)
+  device_error,          ///< a device or the library driving it failed: camera lost, robot reflex, cv::dnn error (adapters)
 };
 
 /// A short, human-readable description; never allocates.
@@ -33,6 +39,9 @@ constexpr const char* describe(Status s) noexcept {
     case Status::outlier_rejected: return "observation rejected by the chi-square gate";
     case Status::not_converged: return "iteration limit reached before tolerance";
     case Status::numerical_failure: return "numerical failure (factorisation or non-finite result)";
+    case Status::io_error: return "a file could not be read";
+    case Status::end_of_stream: return "end of stream: no more frames";
+    case Status::device_error: return "device error (camera, robot or inference library)";
   }
   return "unknown status";
 }

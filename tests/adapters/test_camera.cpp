@@ -12,6 +12,7 @@
 #include "synthetic_frames.hpp"
 
 using namespace lieservo::adapters;
+using lieservo::Status;
 
 TEST_CASE("camera: image sequence of real processed images", "[adapters][camera][data]") {
   const std::string src = std::string(LIESERVO_DATA_DIR) + "/val/processed_images";
@@ -31,29 +32,29 @@ TEST_CASE("camera: image sequence of real processed images", "[adapters][camera]
   CHECK_FALSE(cam.isLive());
   auto last = std::chrono::steady_clock::time_point::min();
   for (int i = 1; i <= n; ++i) {
-    auto f = cam.next();
-    REQUIRE(f.ok());
-    CHECK(f->index == static_cast<std::uint64_t>(i - 1));
-    CHECK(f->stamp >= last);
-    last = f->stamp;
-    REQUIRE(f->image.size() == cv::Size(128, 128));
+    CameraFrame f;
+    REQUIRE(cam.next(f) == Status::ok);
+    CHECK(f.index == static_cast<std::uint64_t>(i - 1));
+    CHECK(f.stamp >= last);
+    last = f.stamp;
+    REQUIRE(f.image.size() == cv::Size(128, 128));
     // The same network input as reading the file directly.
-    auto direct = pre.loadProcessed(dir + "/image_" + std::to_string(i) + ".png");
-    REQUIRE(direct.ok());
-    CHECK(cv::norm(f->image, *direct, cv::NORM_INF) == 0.0);
+    cv::Mat direct;
+    REQUIRE(pre.loadProcessed(dir + "/image_" + std::to_string(i) + ".png", direct) == Status::ok);
+    CHECK(cv::norm(f.image, direct, cv::NORM_INF) == 0.0);
   }
-  auto end = cam.next();
-  REQUIRE_FALSE(end.ok());
-  CHECK(end.error().code == ErrorCode::end_of_stream);
-  CHECK(end.error().message.find("after 5 frames") != std::string::npos);
+  CameraFrame end;
+  end.index = 42;
+  CHECK(cam.next(end) == Status::end_of_stream);
+  CHECK(end.index == 42u);  // a failed call leaves the frame as it was
+  CHECK(cam.lastError().find("after 5 frames") != std::string::npos);
   CHECK(cam.framesDelivered() == 5u);
 
   // The same processed images treated as raw camera frames: clear size error, not a crash.
   TactileCamera as_raw(dir + "/image_%d.png", pre);
-  auto wrong = as_raw.next();
-  REQUIRE_FALSE(wrong.ok());
-  CHECK(wrong.error().code == ErrorCode::wrong_size);
-  CHECK(wrong.error().message.find("640x480") != std::string::npos);
+  CameraFrame wrong;
+  CHECK(as_raw.next(wrong) == Status::invalid_argument);
+  CHECK(as_raw.lastError().find("640x480") != std::string::npos);
   file_test::removeTree(dir);
 }
 
@@ -63,29 +64,28 @@ TEST_CASE("camera: image sequence of synthetic raw frames", "[adapters][camera]"
   for (int i = 0; i < 3; ++i) cv::imwrite(dir + "/frame_" + std::to_string(i) + ".png", synthetic::makeRawFrame(3 * i).bgr);
   TactileCamera cam(dir + "/frame_%d.png", pre);
   for (int i = 0; i < 3; ++i) {
-    auto f = cam.next();
-    REQUIRE(f.ok());
-    CHECK(f->raw.size() == cv::Size(640, 480));
-    auto expected = pre.processRaw(synthetic::makeRawFrame(3 * i).bgr);
-    REQUIRE(expected.ok());
-    CHECK(cv::norm(f->image, *expected, cv::NORM_INF) == 0.0);
+    CameraFrame f;
+    REQUIRE(cam.next(f) == Status::ok);
+    CHECK(f.raw.size() == cv::Size(640, 480));
+    cv::Mat expected;
+    REQUIRE(pre.processRaw(synthetic::makeRawFrame(3 * i).bgr, expected) == Status::ok);
+    CHECK(cv::norm(f.image, expected, cv::NORM_INF) == 0.0);
   }
-  CHECK(cam.next().error().code == ErrorCode::end_of_stream);
+  CameraFrame f;
+  CHECK(cam.next(f) == Status::end_of_stream);
   // Once ended it stays ended.
-  CHECK(cam.next().error().code == ErrorCode::end_of_stream);
+  CHECK(cam.next(f) == Status::end_of_stream);
 
   // The same source treated as a live camera: running out of frames is a lost camera.
   CameraOptions live;
   live.force_live = true;
   TactileCamera lost(dir + "/frame_%d.png", pre, live);
   CHECK(lost.isLive());
-  for (int i = 0; i < 3; ++i) REQUIRE(lost.next().ok());
-  auto gone = lost.next();
-  REQUIRE_FALSE(gone.ok());
-  CHECK(gone.error().code == ErrorCode::camera_lost);
-  CHECK(gone.error().message.find("camera lost") != std::string::npos);
-  CHECK(gone.error().message.find("after 3 frames") != std::string::npos);
-  CHECK(lost.next().error().code == ErrorCode::camera_lost);
+  for (int i = 0; i < 3; ++i) REQUIRE(lost.next(f) == Status::ok);
+  CHECK(lost.next(f) == Status::device_error);
+  CHECK(lost.lastError().find("camera lost") != std::string::npos);
+  CHECK(lost.lastError().find("after 3 frames") != std::string::npos);
+  CHECK(lost.next(f) == Status::device_error);
   file_test::removeTree(dir);
 }
 

@@ -37,15 +37,15 @@ TEST_CASE("gdn: C++ inference on real images matches the recorded PyTorch output
   for (std::size_t r = 1; r < rows.size(); ++r) {
     const auto& row = rows[r];
     REQUIRE(row.size() == 13);
-    auto img = pre.loadProcessed(val + "/processed_images/" + row[0]);
-    REQUIRE(img.ok());
-    auto p = gdn.predict(*img);
-    REQUIRE(p.ok());
+    cv::Mat img;
+    REQUIRE(pre.loadProcessed(val + "/processed_images/" + row[0], img) == lieservo::Status::ok);
+    Prediction p;
+    REQUIRE(gdn.predict(img, p) == lieservo::Status::ok);
     for (std::size_t j = 0; j < 12; ++j) {
       const double ref = std::stod(row[j + 1]);
-      const double err = std::fabs(p->raw[j] - ref) / std::max(1.0, std::fabs(ref));
+      const double err = std::fabs(p.raw[j] - ref) / std::max(1.0, std::fabs(ref));
       worst = std::max(worst, err);
-      INFO(row[0] << " output " << j << ": C++ " << p->raw[j] << " vs PyTorch " << ref);
+      INFO(row[0] << " output " << j << ": C++ " << p.raw[j] << " vs PyTorch " << ref);
       CHECK(err <= 1e-4);
     }
     ++checked;

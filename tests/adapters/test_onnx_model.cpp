@@ -3,6 +3,7 @@
 // unit conversion from the model card, batch = singles, and error paths.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <string>
@@ -13,8 +14,18 @@
 #include "file_test_util.hpp"
 
 using namespace lieservo::adapters;
+using lieservo::Status;
 
 namespace {
+
+/// The prediction for one image, which must succeed.
+Prediction predicted(OnnxPoseModel& model, const cv::Mat& image) {
+  Prediction p;
+  const Status s = model.predict(image, p);
+  INFO(model.lastError());
+  REQUIRE(s == Status::ok);
+  return p;
+}
 
 const std::string kData = LIESERVO_ADAPTERS_TEST_DATA;
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
@@ -90,16 +101,30 @@ TEST_CASE("onnx: a card's sigma calibration scales sigma and nothing else", "[ad
   REQUIRE(c.hasSigmaCalibration());
   CHECK(c.sigma_calibration_source == "held-out images");
   const double raw[12] = {0.1, -0.2, 3.0, 1.5, -2.0, 0.25, 2.0, 4.0, 10.0, 1.0, 0.5, 0.8};
-  auto a = OnnxPoseModel::fromRaw(plain, raw), b = OnnxPoseModel::fromRaw(c, raw);
-  REQUIRE(a.ok());
-  REQUIRE(b.ok());
-  REQUIRE(a->sigma.has_value());
-  REQUIRE(b->sigma.has_value());
+  Prediction a, b;
+  REQUIRE(OnnxPoseModel::fromRaw(plain, raw, a) == Status::ok);
+  REQUIRE(OnnxPoseModel::fromRaw(c, raw, b) == Status::ok);
+  REQUIRE(a.sigma.has_value());
+  REQUIRE(b.sigma.has_value());
   for (int j = 0; j < 6; ++j) {
-    CHECK(b->mu(j) == a->mu(j));  // μ untouched
-    CHECK((*b->sigma)(j) == Approx(c.sigma_scale[static_cast<std::size_t>(j)] * (*a->sigma)(j)).epsilon(1e-15));
+    CHECK(b.mu(j) == a.mu(j));  // μ untouched
+    CHECK((*b.sigma)(j) == Approx(c.sigma_scale[static_cast<std::size_t>(j)] * (*a.sigma)(j)).epsilon(1e-15));
   }
-  for (std::size_t j = 0; j < 12; ++j) CHECK(b->raw[j] == raw[j]);  // the network's outputs as returned
+  for (std::size_t j = 0; j < 12; ++j) CHECK(b.raw[j] == raw[j]);  // the network's outputs as returned
+  // A non-finite output or a σ⁻¹ ≤ 0 is a numerical failure that names the component and
+  // leaves the prediction as it was.
+  double bad[12];
+  std::copy(raw, raw + 12, bad);
+  bad[4] = std::nan("");
+  std::string detail;
+  const Prediction kept = b;
+  CHECK(OnnxPoseModel::fromRaw(c, bad, b, &detail) == Status::numerical_failure);
+  CHECK(detail.find("output 4") != std::string::npos);
+  CHECK(b.mu == kept.mu);
+  std::copy(raw, raw + 12, bad);
+  bad[8] = 0.0;
+  CHECK(OnnxPoseModel::fromRaw(c, bad, b, &detail) == Status::numerical_failure);
+  CHECK(detail.find("component 3") != std::string::npos);
 
   // The flat card form takes the same entry.
   std::ofstream(card) << R"({"kind": "gdn", "input_size": 128, "outputs": 12, "output_units": ["mm", "mm", "mm", "deg", "deg", "deg"],
@@ -128,13 +153,13 @@ TEST_CASE("onnx: tiny GDN through cv::dnn matches PyTorch and converts units", "
   REQUIRE(gdn.hasUncertainty());
   std::vector<cv::Mat> batch;
   for (int k = 0; k < 3; ++k) batch.push_back(syntheticInput(k));
-  auto all = gdn.predictBatch(batch);
-  REQUIRE(all.ok());
-  REQUIRE(all->size() == 3);
+  std::vector<Prediction> all;
+  REQUIRE(gdn.predictBatch(batch, all) == Status::ok);
+  REQUIRE(all.size() == 3);
   for (int k = 0; k < 3; ++k) {
     const auto ref = reference("gdn", k);
     REQUIRE(ref.size() == 12);
-    const Prediction& p = (*all)[static_cast<std::size_t>(k)];
+    const Prediction& p = all[static_cast<std::size_t>(k)];
     REQUIRE(p.sigma.has_value());
     REQUIRE(p.precisionSqrt().has_value());
     for (std::size_t j = 0; j < 12; ++j) CHECK(p.raw[j] == Approx(ref[j]).margin(1e-5));
@@ -145,59 +170,53 @@ TEST_CASE("onnx: tiny GDN through cv::dnn matches PyTorch and converts units", "
       CHECK((*p.precisionSqrt())(j) == Approx(ref[static_cast<std::size_t>(6 + j)] / f).epsilon(1e-5));
     }
     // Single-image path = batch path.
-    auto one = gdn.predict(batch[static_cast<std::size_t>(k)]);
-    REQUIRE(one.ok());
-    for (std::size_t j = 0; j < 12; ++j) CHECK(one->raw[j] == Approx(p.raw[j]).margin(1e-6));
+    const Prediction one = predicted(gdn, batch[static_cast<std::size_t>(k)]);
+    for (std::size_t j = 0; j < 12; ++j) CHECK(one.raw[j] == Approx(p.raw[j]).margin(1e-6));
   }
   // An 8-bit input is scaled by 1/255 first.
   cv::Mat u8;
   batch[2].convertTo(u8, CV_8U, 255.0);
   cv::Mat back;
   u8.convertTo(back, CV_32F, 1.0 / 255.0);
-  auto a = gdn.predict(u8), b = gdn.predict(back);
-  REQUIRE(a.ok());
-  REQUIRE(b.ok());
-  for (std::size_t j = 0; j < 12; ++j) CHECK(a->raw[j] == Approx(b->raw[j]).margin(1e-6));
+  const Prediction a = predicted(gdn, u8), b = predicted(gdn, back);
+  for (std::size_t j = 0; j < 12; ++j) CHECK(a.raw[j] == Approx(b.raw[j]).margin(1e-6));
 }
 
 TEST_CASE("onnx: tiny CNN regression mode returns mu only", "[adapters][onnx]") {
   OnnxPoseModel cnn = OnnxPoseModel::fromCard(kData + "/tiny_model_card.json", ModelKind::cnn);
   CHECK_FALSE(cnn.hasUncertainty());
   for (int k = 0; k < 3; ++k) {
-    auto p = cnn.predict(syntheticInput(k));
-    REQUIRE(p.ok());
-    CHECK_FALSE(p->sigma.has_value());
-    CHECK_FALSE(p->precisionSqrt().has_value());
+    const Prediction p = predicted(cnn, syntheticInput(k));
+    CHECK_FALSE(p.sigma.has_value());
+    CHECK_FALSE(p.precisionSqrt().has_value());
     const auto ref = reference("cnn", k);
     REQUIRE(ref.size() == 6);
     for (int j = 0; j < 6; ++j) {
-      CHECK(p->raw[static_cast<std::size_t>(j)] == Approx(ref[static_cast<std::size_t>(j)]).margin(1e-5));
-      CHECK(p->mu(j) == Approx(ref[static_cast<std::size_t>(j)] * (j < 3 ? 1.0 : kDeg)).margin(1e-7));
+      CHECK(p.raw[static_cast<std::size_t>(j)] == Approx(ref[static_cast<std::size_t>(j)]).margin(1e-5));
+      CHECK(p.mu(j) == Approx(ref[static_cast<std::size_t>(j)] * (j < 3 ? 1.0 : kDeg)).margin(1e-7));
     }
   }
 }
 
 TEST_CASE("onnx: wrong inputs and missing or malformed models give clear errors", "[adapters][onnx]") {
   OnnxPoseModel gdn = OnnxPoseModel::fromCard(kData + "/tiny_model_card.json", ModelKind::gdn);
-  auto r1 = gdn.predict(cv::Mat::zeros(440, 445, CV_32F));
-  REQUIRE_FALSE(r1.ok());
-  CHECK(r1.error().code == ErrorCode::wrong_size);
-  CHECK(r1.error().message.find("128x128") != std::string::npos);
-  auto r2 = gdn.predict(cv::Mat::zeros(128, 128, CV_32FC3));
-  REQUIRE_FALSE(r2.ok());
-  CHECK(r2.error().code == ErrorCode::wrong_type);
-  auto r3 = gdn.predict(cv::Mat());
-  REQUIRE_FALSE(r3.ok());
-  CHECK(r3.error().code == ErrorCode::empty_image);
-  auto r4 = gdn.predictBatch({});
-  REQUIRE_FALSE(r4.ok());
-  CHECK(r4.error().code == ErrorCode::invalid_argument);
-  auto r5 = gdn.predict(cv::Mat::zeros(128, 128, CV_64F));
-  REQUIRE_FALSE(r5.ok());
-  CHECK(r5.error().code == ErrorCode::wrong_type);
-  auto r6 = gdn.predictBatch({syntheticInput(0), cv::Mat::zeros(64, 64, CV_32F)});
-  REQUIRE_FALSE(r6.ok());
-  CHECK(r6.error().message.find("input image 1") != std::string::npos);
+  // Every wrong input is invalid_argument, says what was wrong, and leaves the output as it was.
+  Prediction p;
+  p.mu.setConstant(7.0);
+  auto rejected = [&](const cv::Mat& image, const std::string& words) {
+    CHECK(gdn.predict(image, p) == Status::invalid_argument);
+    CHECK(gdn.lastError().find(words) != std::string::npos);
+    CHECK(p.mu(0) == 7.0);
+  };
+  rejected(cv::Mat::zeros(440, 445, CV_32F), "128x128");
+  rejected(cv::Mat::zeros(128, 128, CV_32FC3), "1 channel");
+  rejected(cv::Mat(), "empty");
+  rejected(cv::Mat::zeros(128, 128, CV_64F), "CV_32FC1");
+  std::vector<Prediction> batch_out(1);
+  CHECK(gdn.predictBatch({}, batch_out) == Status::invalid_argument);
+  CHECK(gdn.predictBatch({syntheticInput(0), cv::Mat::zeros(64, 64, CV_32F)}, batch_out) == Status::invalid_argument);
+  CHECK(gdn.lastError().find("input image 1") != std::string::npos);
+  CHECK(batch_out.size() == 1);
 
   const ModelCard card = ModelCard::fromJsonFile(kData + "/tiny_model_card.json", ModelKind::gdn);
   CHECK_THROWS_WITH(OnnxPoseModel("/nonexistent/gdn.onnx", card), Catch::Contains("not found"));
@@ -212,27 +231,25 @@ TEST_CASE("onnx: wrong inputs and missing or malformed models give clear errors"
 TEST_CASE("onnx: a GDN prediction as the SE(3) observation Gaussian (eq. 14, eq:se3_inverse_transform)",
           "[adapters][onnx][estimation]") {
   OnnxPoseModel gdn = OnnxPoseModel::fromCard(kData + "/tiny_model_card.json", ModelKind::gdn);
-  auto p = gdn.predict(syntheticInput(1));
-  REQUIRE(p.ok());
+  const Prediction p = predicted(gdn, syntheticInput(1));
   lieservo::ConcentratedGaussian<lieservo::SE3d> obs;
-  REQUIRE(toObservation(*p, obs) == lieservo::Status::ok);
-  const lieservo::SE3d::Tangent mu = p->mu;
+  REQUIRE(toObservation(p, obs) == lieservo::Status::ok);
+  const lieservo::SE3d::Tangent mu = p.mu;
   CHECK(obs.mean.isApprox(lieservo::SE3d::exp(mu), 1e-12));
   const lieservo::SE3d::Jacobian J = lieservo::SE3d::leftJacobian(mu);
-  REQUIRE(p->sigma.has_value());
-  const lieservo::SE3d::Jacobian S = p->sigma->array().square().matrix().asDiagonal();
+  REQUIRE(p.sigma.has_value());
+  const lieservo::SE3d::Jacobian S = p.sigma->array().square().matrix().asDiagonal();
   CHECK((obs.covariance - J * S * J.transpose()).norm() <= 1e-12 * S.norm());
   CHECK(obs.validate() == lieservo::Status::ok);
 
   // A CNN prediction has no σ: refused, output untouched.
   OnnxPoseModel cnn = OnnxPoseModel::fromCard(kData + "/tiny_model_card.json", ModelKind::cnn);
-  auto c = cnn.predict(syntheticInput(1));
-  REQUIRE(c.ok());
+  const Prediction c = predicted(cnn, syntheticInput(1));
   const auto before = obs;
-  CHECK(toObservation(*c, obs) == lieservo::Status::invalid_argument);
+  CHECK(toObservation(c, obs) == lieservo::Status::invalid_argument);
   CHECK(obs.mean.isApprox(before.mean, 0.0));
   // A non-positive σ: not_spd.
-  Prediction bad = *p;
+  Prediction bad = p;
   REQUIRE(bad.sigma.has_value());
   (*bad.sigma)(2) = 0.0;
   CHECK(toObservation(bad, obs) == lieservo::Status::not_spd);

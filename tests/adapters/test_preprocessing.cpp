@@ -14,15 +14,15 @@
 #include "synthetic_frames.hpp"
 
 using namespace lieservo::adapters;
+using lieservo::Status;
 
 TEST_CASE("preprocessing: synthetic raw frame -> binary crop and 128x128 network input", "[adapters][preprocessing]") {
   const Preprocessor pre;  // the data set's parameters are the defaults
   const synthetic::SyntheticFrame sf = synthetic::makeRawFrame(7);
   REQUIRE(sf.bgr.size() == cv::Size(640, 480));
 
-  auto bin = pre.binarise(sf.bgr);
-  REQUIRE(bin.ok());
-  const cv::Mat& b = *bin;
+  cv::Mat b;
+  REQUIRE(pre.binarise(sf.bgr, b) == Status::ok);
   REQUIRE(b.size() == cv::Size(445, 440));
   REQUIRE(b.type() == CV_8UC1);
   // Binary.
@@ -41,12 +41,12 @@ TEST_CASE("preprocessing: synthetic raw frame -> binary crop and 128x128 network
     for (int x = 0; x < b.cols; ++x)
       if (std::hypot(x - 222.0, y - 220.0) > 230.5) REQUIRE(b.at<uchar>(y, x) == 0);
 
-  auto in = pre.processRaw(sf.bgr);
-  REQUIRE(in.ok());
-  REQUIRE(in->size() == cv::Size(128, 128));
-  REQUIRE(in->type() == CV_32FC1);
+  cv::Mat in;
+  REQUIRE(pre.processRaw(sf.bgr, in) == Status::ok);
+  REQUIRE(in.size() == cv::Size(128, 128));
+  REQUIRE(in.type() == CV_32FC1);
   double lo = 0, hi = 0;
-  cv::minMaxLoc(*in, &lo, &hi);
+  cv::minMaxLoc(in, &lo, &hi);
   CHECK(lo >= 0.0);
   CHECK(hi <= 1.0);
   CHECK(hi > 0.9);
@@ -54,53 +54,40 @@ TEST_CASE("preprocessing: synthetic raw frame -> binary crop and 128x128 network
   cv::Mat small, expected;
   cv::resize(b, small, cv::Size(128, 128), 0, 0, cv::INTER_AREA);
   small.convertTo(expected, CV_32F, 1.0 / 255.0);
-  CHECK(cv::norm(*in, expected, cv::NORM_INF) == 0.0);
+  CHECK(cv::norm(in, expected, cv::NORM_INF) == 0.0);
 
   // Gray and BGRA inputs give the same result as BGR.
-  cv::Mat gray, bgra;
+  cv::Mat gray, bgra, from_gray, from_bgra;
   cv::cvtColor(sf.bgr, gray, cv::COLOR_BGR2GRAY);
   cv::cvtColor(sf.bgr, bgra, cv::COLOR_BGR2BGRA);
-  CHECK(cv::norm(*pre.processRaw(gray), *in, cv::NORM_INF) == 0.0);
-  CHECK(cv::norm(*pre.processRaw(bgra), *in, cv::NORM_INF) == 0.0);
+  REQUIRE(pre.processRaw(gray, from_gray) == Status::ok);
+  REQUIRE(pre.processRaw(bgra, from_bgra) == Status::ok);
+  CHECK(cv::norm(from_gray, in, cv::NORM_INF) == 0.0);
+  CHECK(cv::norm(from_bgra, in, cv::NORM_INF) == 0.0);
 }
 
 TEST_CASE("preprocessing: wrong sizes, types and empty images give clear errors", "[adapters][preprocessing]") {
   const Preprocessor pre;
-  auto r1 = pre.processRaw(cv::Mat::zeros(440, 445, CV_8UC1));
-  REQUIRE_FALSE(r1.ok());
-  CHECK(r1.error().code == ErrorCode::wrong_size);
-  CHECK(r1.error().message.find("640x480") != std::string::npos);
-  CHECK(r1.error().message.find("445x440") != std::string::npos);
-
-  auto r2 = pre.fromProcessed(cv::Mat::zeros(480, 640, CV_8UC3));
-  REQUIRE_FALSE(r2.ok());
-  CHECK(r2.error().code == ErrorCode::wrong_size);
-
-  auto r3 = pre.processRaw(cv::Mat());
-  REQUIRE_FALSE(r3.ok());
-  CHECK(r3.error().code == ErrorCode::empty_image);
-
-  auto r4 = pre.fromProcessed(cv::Mat::zeros(440, 445, CV_16UC1));
-  REQUIRE_FALSE(r4.ok());
-  CHECK(r4.error().code == ErrorCode::wrong_type);
-
-  auto r5 = pre.fromProcessed(cv::Mat::zeros(440, 445, CV_8UC2));
-  REQUIRE_FALSE(r5.ok());
-  CHECK(r5.error().code == ErrorCode::wrong_type);
-
-  auto r6 = pre.loadProcessed("/nonexistent/image_1.png");
-  REQUIRE_FALSE(r6.ok());
-  CHECK(r6.error().code == ErrorCode::io_error);
-  CHECK(r6.error().message.find("/nonexistent/image_1.png") != std::string::npos);
+  // The output is written only on success: a failed call leaves it as it was.
+  const cv::Mat before = cv::Mat::ones(3, 3, CV_32F);
+  cv::Mat out = before.clone();
+  auto rejected = [&](Status s, Status expected, const std::string& words) {
+    CHECK(s == expected);
+    CHECK(cv::norm(out, before, cv::NORM_INF) == 0.0);
+    CHECK(pre.lastError().find(words) != std::string::npos);
+  };
+  rejected(pre.processRaw(cv::Mat::zeros(440, 445, CV_8UC1), out), Status::invalid_argument, "expected 640x480");
+  CHECK(pre.lastError().find("445x440") != std::string::npos);
+  rejected(pre.fromProcessed(cv::Mat::zeros(480, 640, CV_8UC3), out), Status::invalid_argument, "expected 445x440");
+  rejected(pre.processRaw(cv::Mat(), out), Status::invalid_argument, "empty image");
+  rejected(pre.fromProcessed(cv::Mat::zeros(440, 445, CV_16UC1), out), Status::invalid_argument, "8-bit");
+  rejected(pre.fromProcessed(cv::Mat::zeros(440, 445, CV_8UC2), out), Status::invalid_argument, "channels");
+  rejected(pre.loadProcessed("/nonexistent/image_1.png", out), Status::io_error, "/nonexistent/image_1.png");
 
   const std::string dir = file_test::makeTempDir("prep");
   std::ofstream(dir + "/not_an_image.png") << "this is not a PNG";
-  auto r7 = pre.loadProcessed(dir + "/not_an_image.png");
-  REQUIRE_FALSE(r7.ok());
-  CHECK(r7.error().code == ErrorCode::io_error);
+  rejected(pre.loadProcessed(dir + "/not_an_image.png", out), Status::io_error, "not_an_image.png");
   file_test::removeTree(dir);
-
-  CHECK(std::string(describe(ErrorCode::camera_lost)) == "camera lost");
 
   PreprocessParams bad;
   bad.bbox = cv::Rect(300, 100, 445, 440);
@@ -118,23 +105,23 @@ TEST_CASE("preprocessing: the data set's processed images", "[adapters][preproce
     const std::string path = val + "/processed_images/" + name;
     const cv::Mat raw8 = cv::imread(path, cv::IMREAD_GRAYSCALE);
     REQUIRE(raw8.size() == cv::Size(445, 440));
-    auto in = pre.loadProcessed(path);
-    REQUIRE(in.ok());
-    REQUIRE(in->size() == cv::Size(128, 128));
-    REQUIRE(in->type() == CV_32FC1);
+    cv::Mat in;
+    REQUIRE(pre.loadProcessed(path, in) == Status::ok);
+    REQUIRE(in.size() == cv::Size(128, 128));
+    REQUIRE(in.type() == CV_32FC1);
     double lo = 0, hi = 0;
-    cv::minMaxLoc(*in, &lo, &hi);
+    cv::minMaxLoc(in, &lo, &hi);
     CHECK(lo == 0.0);
     CHECK(hi == Approx(1.0));
     // Area resampling keeps the mean intensity (up to 8-bit rounding).
-    CHECK(cv::mean(*in)[0] == Approx(cv::mean(raw8)[0] / 255.0).margin(2e-3));
+    CHECK(cv::mean(in)[0] == Approx(cv::mean(raw8)[0] / 255.0).margin(2e-3));
     // Outside the mask stays black: the corners.
-    CHECK(in->at<float>(0, 0) == 0.0f);
-    CHECK(in->at<float>(127, 127) == 0.0f);
+    CHECK(in.at<float>(0, 0) == 0.0f);
+    CHECK(in.at<float>(127, 127) == 0.0f);
     // Each value is an 8-bit level / 255.
     for (int y = 0; y < 128; y += 7)
       for (int x = 0; x < 128; x += 7) {
-        const double v = 255.0 * in->at<float>(y, x);
+        const double v = 255.0 * in.at<float>(y, x);
         REQUIRE(std::fabs(v - std::round(v)) < 1e-3);
       }
     // The processed image is a fixed point of the mask step: re-masking changes nothing.

@@ -1,9 +1,13 @@
 // Concentrated Gaussians, Jacobian policies, χ² helpers and data fusion (Algorithm 3, alg:se3_data_fusion).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
+#include <random>
 
 #include "estimation_test_helpers.hpp"
 #include "test_support.hpp"
@@ -78,6 +82,45 @@ TEMPLATE_TEST_CASE("jacobian policies match the Bernoulli series and the closed 
 }
 
 // ---------------------------------------------------------------------------------------------
+TEST_CASE("triangular inverses and solves of the fusion's square-root form", "[estimation][linalg]") {
+  // 10⁵ seeded triangular factors with pivots spread over 1e-6..1e6 (the Cholesky factors of
+  // covariances in [1e-12, 1e12]): L·L⁻¹ = I and R·R⁻¹ = I to rounding, the inverses are
+  // triangular, and the in-place solves agree with multiplying by them.
+  using M6 = Eigen::Matrix<double, 6, 6>;
+  using V6 = Eigen::Matrix<double, 6, 1>;
+  std::mt19937_64 rng(20261124);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), e(-6.0, 6.0);
+  double worst = 0.0, worst_solve = 0.0;
+  for (int n = 0; n < 100000; ++n) {
+    M6 L = M6::Zero();
+    for (int i = 0; i < 6; ++i) {
+      const double d = std::pow(10.0, e(rng));
+      L(i, i) = d;
+      for (int k = 0; k < i; ++k) L(i, k) = u(rng) * d;  // rows scaled alike: condition ~ the pivots'
+    }
+    const M6 W = detail::lowerTriangularInverse(L);
+    const M6 R = L.transpose();
+    const M6 U = detail::upperTriangularInverse(R);
+    REQUIRE(W.isLowerTriangular(0.0));
+    REQUIRE(U.isUpperTriangular(0.0));
+    // Row-relative residual: (L W − I) scaled by each row's magnitude.
+    const M6 D = L.cwiseAbs() * W.cwiseAbs();
+    const M6 DU = U.cwiseAbs() * R.cwiseAbs();
+    const M6 EL = (L * W - M6::Identity()).cwiseAbs().cwiseQuotient(D + M6::Constant(1e-300));
+    const M6 EU = (U * R - M6::Identity()).cwiseAbs().cwiseQuotient(DU + M6::Constant(1e-300));
+    worst = std::max({worst, EL.maxCoeff(), EU.maxCoeff()});
+    V6 b = V6::NullaryExpr([&](Eigen::Index) { return u(rng); });
+    V6 x = b, y = b;
+    detail::lowerSolveInPlace(L, x);
+    detail::upperSolveInPlace(R, y);
+    worst_solve = std::max({worst_solve, ((L * x - b).cwiseAbs().cwiseQuotient(L.cwiseAbs() * x.cwiseAbs() + V6::Constant(1e-300))).maxCoeff(),
+                            ((R * y - b).cwiseAbs().cwiseQuotient(R.cwiseAbs() * y.cwiseAbs() + V6::Constant(1e-300))).maxCoeff()});
+  }
+  INFO("worst componentwise residual: inverse " << worst << ", solve " << worst_solve);
+  CHECK(worst <= 64 * std::numeric_limits<double>::epsilon());
+  CHECK(worst_solve <= 64 * std::numeric_limits<double>::epsilon());
+}
+
 TEST_CASE("chi-square CDF and quantiles", "[estimation][chi2]") {
   // Reference values (standard χ² tables, 10+ digits).
   CHECK(chiSquareQuantile(0.95, 1) == Approx(3.841458820694124).epsilon(1e-10));

@@ -45,9 +45,11 @@ void TactileCamera::release() {
   lost_ = true;
 }
 
-Result<CameraFrame> TactileCamera::next() {
-  if (lost_ || !cap_.isOpened())
-    return makeError(live_ ? ErrorCode::camera_lost : ErrorCode::end_of_stream, source_ + ": not open");
+Status TactileCamera::next(CameraFrame& frame) {
+  if (lost_ || !cap_.isOpened()) {
+    last_error_ = source_ + ": not open";
+    return live_ ? Status::device_error : Status::end_of_stream;
+  }
   CameraFrame f;
   const int attempts = live_ ? std::max(1, opt_.max_consecutive_failures) : 1;
   bool got = false;
@@ -61,19 +63,23 @@ Result<CameraFrame> TactileCamera::next() {
   f.stamp = std::chrono::steady_clock::now();
   if (!got) {
     lost_ = true;
-    if (live_)
-      return makeError(ErrorCode::camera_lost, source_ + ": camera lost: " + std::to_string(attempts) +
-                                                   " consecutive reads failed or returned an empty frame after " +
-                                                   std::to_string(delivered_) + " frames");
-    return makeError(ErrorCode::end_of_stream,
-                     source_ + ": end of stream after " + std::to_string(delivered_) + " frames");
+    if (live_) {
+      last_error_ = source_ + ": camera lost: " + std::to_string(attempts) +
+                    " consecutive reads failed or returned an empty frame after " + std::to_string(delivered_) +
+                    " frames";
+      return Status::device_error;
+    }
+    last_error_ = source_ + ": end of stream after " + std::to_string(delivered_) + " frames";
+    return Status::end_of_stream;
   }
-  auto img = opt_.input == FrameInput::raw ? pre_.processRaw(f.raw) : pre_.fromProcessed(f.raw);
-  if (!img) return makeError(img.error().code, source_ + " frame " + std::to_string(delivered_) + ": " +
-                                                   img.error().message);
-  f.image = std::move(img.value());
+  const Status s = opt_.input == FrameInput::raw ? pre_.processRaw(f.raw, f.image) : pre_.fromProcessed(f.raw, f.image);
+  if (s != Status::ok) {
+    last_error_ = source_ + " frame " + std::to_string(delivered_) + ": " + pre_.lastError();
+    return s;
+  }
   f.index = delivered_++;
-  return f;
+  frame = std::move(f);
+  return Status::ok;
 }
 
 }  // namespace lieservo::adapters

@@ -152,8 +152,10 @@ OnnxPoseModel::OnnxPoseModel(const std::string& onnx_path, const ModelCard& card
   net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
   // Check the output shape against the card with one blank image.
   const cv::Mat blank = cv::Mat::zeros(card_.input_size, card_.input_size, CV_32F);
-  auto r = predictBatch({blank});
-  if (!r) throw std::runtime_error(onnx_path + ": model does not match its card: " + r.error().message);
+  std::vector<Prediction> r;
+  if (predictBatch({blank}, r) != Status::ok)
+    throw std::runtime_error(onnx_path + ": model does not match its card: " + last_error_);
+  last_error_.clear();
 }
 
 OnnxPoseModel OnnxPoseModel::fromCard(const std::string& card_path, ModelKind kind) {
@@ -163,34 +165,39 @@ OnnxPoseModel OnnxPoseModel::fromCard(const std::string& card_path, ModelKind ki
   return OnnxPoseModel(file, card);
 }
 
-Result<cv::Mat> OnnxPoseModel::checkInput(const cv::Mat& image, std::size_t index) const {
+Status OnnxPoseModel::fail(Status s, std::string detail) {
+  last_error_ = std::move(detail);
+  return s;
+}
+
+Status OnnxPoseModel::checkInput(const cv::Mat& image, std::size_t index, cv::Mat& input) {
   const std::string what = "input image " + std::to_string(index);
-  if (image.empty()) return makeError(ErrorCode::empty_image, what + ": empty");
+  if (image.empty()) return fail(Status::invalid_argument, what + ": empty");
   if (image.channels() != 1)
-    return makeError(ErrorCode::wrong_type, what + ": expected 1 channel, got " + std::to_string(image.channels()));
+    return fail(Status::invalid_argument, what + ": expected 1 channel, got " + std::to_string(image.channels()));
   if (image.rows != card_.input_size || image.cols != card_.input_size) {
     std::ostringstream os;
     os << what << ": expected " << card_.input_size << "x" << card_.input_size << " but got " << image.cols << "x"
        << image.rows << " (pre-process it first)";
-    return makeError(ErrorCode::wrong_size, os.str());
+    return fail(Status::invalid_argument, os.str());
   }
-  if (image.type() == CV_32FC1) return image;
+  if (image.type() == CV_32FC1) {
+    input = image;
+    return Status::ok;
+  }
   if (image.type() == CV_8UC1) {
-    cv::Mat f;
-    image.convertTo(f, CV_32F, 1.0 / 255.0);
-    return f;
+    image.convertTo(input, CV_32F, 1.0 / 255.0);
+    return Status::ok;
   }
-  return makeError(ErrorCode::wrong_type, what + ": expected CV_32FC1 in [0,1] or CV_8UC1");
+  return fail(Status::invalid_argument, what + ": expected CV_32FC1 in [0,1] or CV_8UC1");
 }
 
-Result<std::vector<Prediction>> OnnxPoseModel::predictBatch(const std::vector<cv::Mat>& images) {
-  if (images.empty()) return makeError(ErrorCode::invalid_argument, "predictBatch: empty batch");
-  std::vector<cv::Mat> inputs;
-  inputs.reserve(images.size());
+Status OnnxPoseModel::predictBatch(const std::vector<cv::Mat>& images, std::vector<Prediction>& predictions) {
+  if (images.empty()) return fail(Status::invalid_argument, "predictBatch: empty batch");
+  std::vector<cv::Mat> inputs(images.size());
   for (std::size_t i = 0; i < images.size(); ++i) {
-    auto in = checkInput(images[i], i);
-    if (!in) return in.error();
-    inputs.push_back(*in);
+    const Status s = checkInput(images[i], i, inputs[i]);
+    if (s != Status::ok) return s;
   }
   cv::Mat out;
   try {
@@ -198,57 +205,62 @@ Result<std::vector<Prediction>> OnnxPoseModel::predictBatch(const std::vector<cv
     net_.setInput(blob);
     out = net_.forward().clone();
   } catch (const cv::Exception& e) {
-    return makeError(ErrorCode::inference_failed, path_ + ": forward pass failed: " + e.what());
+    return fail(Status::device_error, path_ + ": forward pass failed: " + e.what());
   }
   const int n = static_cast<int>(images.size());
   if (out.type() != CV_32F || out.total() != static_cast<std::size_t>(n) * static_cast<std::size_t>(card_.outputs)) {
     std::ostringstream os;
     os << path_ << ": unexpected output: " << out.total() << " values of type " << out.type() << " for a batch of " << n
        << " (expected " << card_.outputs << " per image, float32)";
-    return makeError(ErrorCode::inference_failed, os.str());
+    return fail(Status::device_error, os.str());
   }
   out = out.reshape(1, n);
-  std::vector<Prediction> preds;
-  preds.reserve(static_cast<std::size_t>(n));
+  std::vector<Prediction> preds(static_cast<std::size_t>(n));
   std::array<double, 12> raw{};
   for (int i = 0; i < n; ++i) {
     const float* row = out.ptr<float>(i);
     for (int j = 0; j < card_.outputs; ++j) raw[static_cast<std::size_t>(j)] = static_cast<double>(row[j]);
-    auto p = fromRaw(card_, raw.data());
-    if (!p) return makeError(p.error().code, "image " + std::to_string(i) + ": " + p.error().message);
-    preds.push_back(std::move(p.value()));
+    std::string detail;
+    const Status s = fromRaw(card_, raw.data(), preds[static_cast<std::size_t>(i)], &detail);
+    if (s != Status::ok) return fail(s, path_ + ": image " + std::to_string(i) + ": " + detail);
   }
-  return preds;
+  predictions = std::move(preds);
+  return Status::ok;
 }
 
-Result<Prediction> OnnxPoseModel::fromRaw(const ModelCard& card, const double* raw) {
+Status OnnxPoseModel::fromRaw(const ModelCard& card, const double* raw, Prediction& prediction, std::string* detail) {
   Prediction p;
   const bool gdn = card.outputs == 12;
   Eigen::Matrix<double, 6, 1> sigma;
   for (int j = 0; j < card.outputs; ++j) {
     p.raw[static_cast<std::size_t>(j)] = raw[j];
-    if (!std::isfinite(raw[j]))
-      return makeError(ErrorCode::non_finite_output, "output " + std::to_string(j) + " is not finite");
+    if (!std::isfinite(raw[j])) {
+      if (detail) *detail = "output " + std::to_string(j) + " is not finite";
+      return Status::numerical_failure;
+    }
   }
   for (int j = 0; j < 6; ++j) {
     const double f = card.to_library[static_cast<std::size_t>(j)];
     p.mu(j) = raw[j] * f;
     if (gdn) {
       const double s_inv = raw[6 + j];
-      if (!(s_inv > 0.0))
-        return makeError(ErrorCode::non_finite_output,
-                         "sigma^-1 of component " + std::to_string(j + 1) + " is not positive");
+      if (!(s_inv > 0.0)) {
+        if (detail) *detail = "sigma^-1 of component " + std::to_string(j + 1) + " is not positive";
+        return Status::numerical_failure;
+      }
       sigma(j) = f * card.sigma_scale[static_cast<std::size_t>(j)] / s_inv;  // σ = 1/σ⁻¹, library units
     }
   }
   if (gdn) p.sigma = sigma;
-  return p;
+  prediction = p;
+  return Status::ok;
 }
 
-Result<Prediction> OnnxPoseModel::predict(const cv::Mat& image) {
-  auto r = predictBatch({image});
-  if (!r) return r.error();
-  return std::move(r.value().front());
+Status OnnxPoseModel::predict(const cv::Mat& image, Prediction& prediction) {
+  std::vector<Prediction> one;
+  const Status s = predictBatch({image}, one);
+  if (s == Status::ok) prediction = one.front();
+  return s;
 }
 
 }  // namespace lieservo::adapters

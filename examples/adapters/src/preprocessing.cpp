@@ -10,20 +10,6 @@
 
 namespace lieservo::adapters {
 
-const char* describe(ErrorCode code) noexcept {
-  switch (code) {
-    case ErrorCode::empty_image: return "empty image";
-    case ErrorCode::wrong_size: return "wrong image size";
-    case ErrorCode::wrong_type: return "unsupported image type";
-    case ErrorCode::io_error: return "I/O error";
-    case ErrorCode::camera_lost: return "camera lost";
-    case ErrorCode::end_of_stream: return "end of stream";
-    case ErrorCode::inference_failed: return "inference failed";
-    case ErrorCode::non_finite_output: return "non-finite network output";
-    case ErrorCode::invalid_argument: return "invalid argument";
-  }
-  return "unknown error";
-}
 
 namespace {
 std::string sizeStr(const cv::Size& s) {
@@ -104,24 +90,28 @@ Preprocessor::Preprocessor(PreprocessParams params) : p_(params) {
   }
 }
 
-Result<cv::Mat> Preprocessor::toGray8(const cv::Mat& img, const cv::Size& expected, const char* what) const {
-  if (img.empty()) return makeError(ErrorCode::empty_image, std::string(what) + ": empty image");
+Status Preprocessor::fail(Status s, std::string detail) const {
+  last_error_ = std::move(detail);
+  return s;
+}
+
+Status Preprocessor::toGray8(const cv::Mat& img, const cv::Size& expected, const char* what, cv::Mat& gray) const {
+  if (img.empty()) return fail(Status::invalid_argument, std::string(what) + ": empty image");
   if (img.size() != expected)
-    return makeError(ErrorCode::wrong_size,
-                     std::string(what) + ": expected " + sizeStr(expected) + " but got " + sizeStr(img.size()));
+    return fail(Status::invalid_argument,
+                std::string(what) + ": expected " + sizeStr(expected) + " but got " + sizeStr(img.size()));
   if (img.depth() != CV_8U)
-    return makeError(ErrorCode::wrong_type, std::string(what) + ": expected an 8-bit image, got depth " +
-                                                std::to_string(img.depth()));
-  cv::Mat g;
+    return fail(Status::invalid_argument,
+                std::string(what) + ": expected an 8-bit image, got depth " + std::to_string(img.depth()));
   switch (img.channels()) {
-    case 1: g = img; break;
-    case 3: cv::cvtColor(img, g, cv::COLOR_BGR2GRAY); break;
-    case 4: cv::cvtColor(img, g, cv::COLOR_BGRA2GRAY); break;
+    case 1: gray = img; break;
+    case 3: cv::cvtColor(img, gray, cv::COLOR_BGR2GRAY); break;
+    case 4: cv::cvtColor(img, gray, cv::COLOR_BGRA2GRAY); break;
     default:
-      return makeError(ErrorCode::wrong_type,
-                       std::string(what) + ": expected 1, 3 or 4 channels, got " + std::to_string(img.channels()));
+      return fail(Status::invalid_argument,
+                  std::string(what) + ": expected 1, 3 or 4 channels, got " + std::to_string(img.channels()));
   }
-  return g;
+  return Status::ok;
 }
 
 cv::Mat Preprocessor::resizeAndScale(const cv::Mat& gray8) const {
@@ -131,52 +121,58 @@ cv::Mat Preprocessor::resizeAndScale(const cv::Mat& gray8) const {
   return out;
 }
 
-Result<cv::Mat> Preprocessor::binarise(const cv::Mat& raw) const {
-  auto g = toGray8(raw, p_.raw_size, "raw frame");
-  if (!g) return g.error();
-  cv::Mat img = (*g)(p_.bbox).clone();
+Status Preprocessor::binarise(const cv::Mat& raw, cv::Mat& binary) const {
+  cv::Mat g;
+  const Status s = toGray8(raw, p_.raw_size, "raw frame", g);
+  if (s != Status::ok) return s;
+  cv::Mat img = g(p_.bbox).clone();
   if (p_.median_kernel > 0) {
     cv::Mat blurred;
     cv::medianBlur(img, blurred, p_.median_kernel);
     img = blurred;
   }
   if (p_.threshold) {
-    cv::Mat binary;
-    cv::adaptiveThreshold(img, binary, 255, cv::ADAPTIVE_THRESH_GAUSSIAN_C, cv::THRESH_BINARY, p_.threshold_block,
+    cv::Mat thresholded;
+    cv::adaptiveThreshold(img, thresholded, 255, cv::ADAPTIVE_THRESH_GAUSSIAN_C, cv::THRESH_BINARY, p_.threshold_block,
                           p_.threshold_c);
-    img = binary;
+    img = thresholded;
   }
   if (!mask_.empty()) {
     cv::Mat masked = cv::Mat::zeros(img.size(), CV_8UC1);
     img.copyTo(masked, mask_);
     img = masked;
   }
-  return img;
+  binary = img;
+  return Status::ok;
 }
 
-Result<cv::Mat> Preprocessor::processRaw(const cv::Mat& raw) const {
-  auto b = binarise(raw);
-  if (!b) return b.error();
-  return resizeAndScale(*b);
+Status Preprocessor::processRaw(const cv::Mat& raw, cv::Mat& input) const {
+  cv::Mat b;
+  const Status s = binarise(raw, b);
+  if (s != Status::ok) return s;
+  input = resizeAndScale(b);
+  return Status::ok;
 }
 
-Result<cv::Mat> Preprocessor::fromProcessed(const cv::Mat& processed) const {
-  auto g = toGray8(processed, p_.processedSize(), "processed image");
-  if (!g) return g.error();
-  return resizeAndScale(*g);
+Status Preprocessor::fromProcessed(const cv::Mat& processed, cv::Mat& input) const {
+  cv::Mat g;
+  const Status s = toGray8(processed, p_.processedSize(), "processed image", g);
+  if (s != Status::ok) return s;
+  input = resizeAndScale(g);
+  return Status::ok;
 }
 
-Result<cv::Mat> Preprocessor::loadProcessed(const std::string& path) const {
+Status Preprocessor::loadProcessed(const std::string& path, cv::Mat& input) const {
   cv::Mat img;
   try {
     img = cv::imread(path, cv::IMREAD_GRAYSCALE);
   } catch (const cv::Exception& e) {
-    return makeError(ErrorCode::io_error, path + ": " + e.what());
+    return fail(Status::io_error, path + ": " + e.what());
   }
-  if (img.empty()) return makeError(ErrorCode::io_error, path + ": cannot read image (missing or not an image)");
-  auto r = fromProcessed(img);
-  if (!r) return makeError(r.error().code, path + ": " + r.error().message);
-  return r;
+  if (img.empty()) return fail(Status::io_error, path + ": cannot read image (missing or not an image)");
+  const Status s = fromProcessed(img, input);
+  if (s != Status::ok) last_error_ = path + ": " + last_error_;
+  return s;
 }
 
 }  // namespace lieservo::adapters

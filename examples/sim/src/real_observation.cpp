@@ -120,23 +120,24 @@ Status RealGdnObservations::prediction(std::size_t i, Vec6& mu, Vec6& sigma) noe
   Impl::Cached& c = I.cache[i];
   if (!c.done) {
     try {
-      const auto image = I.pre->loadProcessed(I.paths[i]);
-      if (!image) {
-        I.last_error = I.paths[i] + ": " + image.error().message;
-        return Status::invalid_argument;
+      cv::Mat image;
+      Status s = I.pre->loadProcessed(I.paths[i], image);
+      if (s != Status::ok) {
+        I.last_error = I.pre->lastError();
+        return s;
       }
-      const auto p = I.gdn->predict(*image);
-      if (!p) {
-        I.last_error = I.paths[i] + ": " + p.error().message;
-        return p.error().code == adapters::ErrorCode::non_finite_output ? Status::numerical_failure
-                                                                          : Status::invalid_argument;
+      adapters::Prediction p;
+      s = I.gdn->predict(image, p);
+      if (s != Status::ok) {
+        I.last_error = I.paths[i] + ": " + I.gdn->lastError();
+        return s;
       }
-      if (!p->sigma) {
+      if (!p.sigma) {
         I.last_error = I.paths[i] + ": the model gives no sigma (a CNN, not a GDN)";
         return Status::invalid_argument;
       }
-      c.mu = p->mu;
-      c.sigma = *p->sigma;
+      c.mu = p.mu;
+      c.sigma = *p.sigma;
       c.done = true;
       ++I.evaluated;
     } catch (const std::exception& e) {  // e.g. out of memory: the per-step path never throws

@@ -87,11 +87,14 @@ void householderTriangularize(Mat& M) noexcept {
     constexpr int below = R - K - 1;  // rows under the diagonal
     constexpr int right = C - K - 1;  // columns right of the diagonal
     const Scalar scale = M.col(K).template segment<R - K>(K).cwiseAbs().maxCoeff();
-    if (scale > Scalar(0) && std::isfinite(scale)) {
-      const Eigen::Matrix<Scalar, below, 1> v = M.col(K).template segment<below>(K + 1) / scale;
+    // One reciprocal instead of a division per entry; a subnormal scale (whose reciprocal
+    // overflows) is treated as zero: its column is negligible against any pivot.
+    if (scale >= std::numeric_limits<Scalar>::min() && std::isfinite(scale)) {
+      const Scalar inv_scale = Scalar(1) / scale;
+      const Eigen::Matrix<Scalar, below, 1> v = M.col(K).template segment<below>(K + 1) * inv_scale;
       const Scalar sigma2 = v.squaredNorm();
       if (sigma2 != Scalar(0)) {
-        const Scalar x0 = M(K, K) / scale;
+        const Scalar x0 = M(K, K) * inv_scale;
         Scalar alpha = std::sqrt(x0 * x0 + sigma2);
         if (x0 > Scalar(0)) alpha = -alpha;  // v0 = x0 − alpha never cancels
         const Scalar v0 = x0 - alpha;
@@ -197,8 +200,7 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
   Jacobian W[kMaxFusionFactors];
   G inv_mean[kMaxFusionFactors];
   for (int i = 0; i < count; ++i) {
-    W[i].setIdentity();
-    lowerSolveInPlace(L[i], W[i]);
+    W[i] = lowerTriangularInverse(L[i]);
     inv_mean[i] = means[i].inverse();
   }
 
@@ -244,8 +246,7 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
 
   X.normalize();
   // Σ* = (RᵀR)⁻¹ = R⁻¹ R⁻ᵀ, from the last linearisation (as the paper's algorithm returns it).
-  Jacobian Rinv = Jacobian::Identity();
-  upperSolveInPlace(R, Rinv);
+  const Jacobian Rinv = upperTriangularInverse(R);
   Jacobian Sigma = Rinv * Rinv.transpose();
   if (!X.allFinite() || !allFinite(Sigma) || !std::isfinite(step))
     return Status::numerical_failure;

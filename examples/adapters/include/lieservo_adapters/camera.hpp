@@ -7,9 +7,10 @@
 // CameraOptions::input = FrameInput::processed for sequences of already-processed
 // images (such as the data set's processed_images/).
 //
-// Opening throws std::runtime_error (set-up). next() never throws: a live camera that
-// stops delivering frames gives ErrorCode::camera_lost; a file/sequence that ends gives
-// ErrorCode::end_of_stream.
+// Opening throws std::runtime_error (set-up). next() never throws and returns a
+// lieservo::Status: device_error for a live camera that stops delivering frames,
+// end_of_stream for a file/sequence that ends, invalid_argument for a frame of the wrong
+// size or type; lastError() gives the detail.
 #pragma once
 
 #include <chrono>
@@ -20,7 +21,6 @@
 #include <opencv2/videoio.hpp>
 
 #include "lieservo_adapters/preprocessing.hpp"
-#include "lieservo_adapters/result.hpp"
 
 namespace lieservo::adapters {
 
@@ -30,8 +30,8 @@ struct CameraOptions {
   FrameInput input = FrameInput::raw;
   bool set_resolution = true;       ///< devices only: request raw_size from the driver
   double exposure = 0.0;            ///< devices only: CAP_PROP_EXPOSURE when != 0 (data set used -7)
-  int max_consecutive_failures = 3; ///< live sources: failed reads before camera_lost
-  /// Path sources are live (a failed read = camera_lost) when the path is a device node
+  int max_consecutive_failures = 3; ///< live sources: failed reads before device_error
+  /// Path sources are live (a failed read = device_error) when the path is a device node
   /// ("/dev/video…") or a stream URL ("…://…"), or when this is set; otherwise a failed
   /// read is the end of the file/sequence (end_of_stream).
   bool force_live = false;
@@ -54,8 +54,10 @@ class TactileCamera {
   TactileCamera(const TactileCamera&) = delete;
   TactileCamera& operator=(const TactileCamera&) = delete;
 
-  /// Reads and pre-processes the next frame.
-  Result<CameraFrame> next();
+  /// Reads and pre-processes the next frame into `frame` (written only when ok).
+  Status next(CameraFrame& frame);
+  /// What the latest failed next() met; empty before any failure.
+  const std::string& lastError() const noexcept { return last_error_; }
 
   bool isLive() const noexcept { return live_; }
   const std::string& source() const noexcept { return source_; }
@@ -70,6 +72,7 @@ class TactileCamera {
   bool live_ = false;
   bool lost_ = false;
   std::uint64_t delivered_ = 0;
+  std::string last_error_;
 };
 
 }  // namespace lieservo::adapters

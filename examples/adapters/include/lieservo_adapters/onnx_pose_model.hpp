@@ -17,7 +17,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/dnn.hpp>
 
-#include "lieservo_adapters/result.hpp"
+#include <lieservo/status.hpp>
 
 namespace lieservo::adapters {
 
@@ -77,20 +77,30 @@ class OnnxPoseModel {
   bool hasUncertainty() const noexcept { return card_.outputs == 12; }
 
   /// One pre-processed image: CV_32FC1 (or CV_8UC1, scaled by 1/255) input_size x input_size.
-  Result<Prediction> predict(const cv::Mat& image);
-  /// A batch (all the same size/type); one forward pass.
-  Result<std::vector<Prediction>> predictBatch(const std::vector<cv::Mat>& images);
+  /// Status: ok; invalid_argument (empty image, wrong size or type); device_error (cv::dnn
+  /// failed or returned an unexpected shape); numerical_failure (a non-finite output or a
+  /// σ⁻¹ ≤ 0). `prediction` is written only when ok; lastError() gives the detail.
+  Status predict(const cv::Mat& image, Prediction& prediction);
+  /// A batch (all the same size/type); one forward pass. Status as predict(); an empty batch
+  /// is invalid_argument. `predictions` is written only when ok.
+  Status predictBatch(const std::vector<cv::Mat>& images, std::vector<Prediction>& predictions);
+  /// What the latest failed call met; empty before any failure.
+  const std::string& lastError() const noexcept { return last_error_; }
 
   /// Converts raw network outputs (card.outputs values, network units) to a Prediction
-  /// (library units; σ multiplied by card.sigma_scale). non_finite_output for NaN/inf or σ⁻¹ <= 0.
-  static Result<Prediction> fromRaw(const ModelCard& card, const double* raw);
+  /// (library units; σ multiplied by card.sigma_scale). numerical_failure for NaN/inf or
+  /// σ⁻¹ <= 0 (the component is in `detail` when given); `prediction` written only when ok.
+  static Status fromRaw(const ModelCard& card, const double* raw, Prediction& prediction,
+                        std::string* detail = nullptr);
 
  private:
-  Result<cv::Mat> checkInput(const cv::Mat& image, std::size_t index) const;
+  Status fail(Status s, std::string detail);
+  Status checkInput(const cv::Mat& image, std::size_t index, cv::Mat& input);
 
   ModelCard card_;
   std::string path_;
   cv::dnn::Net net_;
+  std::string last_error_;
 };
 
 }  // namespace lieservo::adapters

@@ -20,7 +20,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "lieservo_adapters/result.hpp"
+#include <lieservo/status.hpp>
 
 namespace lieservo::adapters {
 
@@ -47,7 +47,10 @@ struct PreprocessParams {
   static PreprocessParams fromJsonFile(const std::string& path);
 };
 
-/// Stateless pre-processor; all methods are const and thread-compatible.
+/// The pre-processor. Per-image calls return a lieservo::Status (invalid_argument for an empty
+/// image or a wrong size, depth or channel count; io_error for a file that cannot be read),
+/// write their output only when it is ok, and leave the detail in lastError(). One object per
+/// thread: the detail is the object's only state (copies are cheap).
 class Preprocessor {
  public:
   Preprocessor() : Preprocessor(PreprocessParams{}) {}
@@ -57,23 +60,28 @@ class Preprocessor {
 
   /// Steps 1-5: raw frame (raw_size; 8-bit, 1/3/4 channels) -> 8-bit binary image of
   /// bbox size, like the data set's processed_images.
-  Result<cv::Mat> binarise(const cv::Mat& raw) const;
+  Status binarise(const cv::Mat& raw, cv::Mat& binary) const;
 
   /// Steps 1-7: raw frame -> CV_32FC1 output_size x output_size in [0, 1].
-  Result<cv::Mat> processRaw(const cv::Mat& raw) const;
+  Status processRaw(const cv::Mat& raw, cv::Mat& input) const;
 
   /// Steps 6-7 for an already-processed image (bbox size; 8-bit, 1/3/4 channels).
-  Result<cv::Mat> fromProcessed(const cv::Mat& processed) const;
+  Status fromProcessed(const cv::Mat& processed, cv::Mat& input) const;
 
   /// Reads a processed image from disk (grayscale) and applies fromProcessed.
-  Result<cv::Mat> loadProcessed(const std::string& path) const;
+  Status loadProcessed(const std::string& path, cv::Mat& input) const;
+
+  /// What the latest failed call met (sizes, types, the path); empty before any failure.
+  const std::string& lastError() const noexcept { return last_error_; }
 
  private:
-  Result<cv::Mat> toGray8(const cv::Mat& img, const cv::Size& expected, const char* what) const;
+  Status fail(Status s, std::string detail) const;
+  Status toGray8(const cv::Mat& img, const cv::Size& expected, const char* what, cv::Mat& gray) const;
   cv::Mat resizeAndScale(const cv::Mat& gray8) const;
 
   PreprocessParams p_;
   cv::Mat mask_;  ///< 8-bit circular mask of bbox size (empty when disabled)
+  mutable std::string last_error_;
 };
 
 }  // namespace lieservo::adapters

@@ -126,29 +126,60 @@ Status checkPsd(const Mat& S) noexcept {
 
 /// Forward substitution, in place: B ← L⁻¹ B for a lower-triangular fixed-size L (only the
 /// lower triangle is read). Written out (rather than Eigen's triangularView().solve()) to keep
-/// the code path small, obviously allocation-free and free of spurious GCC warnings.
+/// the code path small, obviously allocation-free and free of spurious GCC warnings; one
+/// division per row, not per entry.
 template <class MatL, class MatB>
 void lowerSolveInPlace(const MatL& L, MatB& B) noexcept {
-  const int n = static_cast<int>(L.rows());
-  for (int c = 0; c < static_cast<int>(B.cols()); ++c)
-    for (int i = 0; i < n; ++i) {
-      auto v = B(i, c);
-      for (int k = 0; k < i; ++k) v -= L(i, k) * B(k, c);
-      B(i, c) = v / L(i, i);
-    }
+  constexpr int n = MatL::RowsAtCompileTime;
+  typename MatL::Scalar inv_diag[n];
+  for (int i = 0; i < n; ++i) inv_diag[i] = typename MatL::Scalar(1) / L(i, i);
+  for (int i = 0; i < n; ++i) {
+    for (int k = 0; k < i; ++k) B.row(i) -= L(i, k) * B.row(k);
+    B.row(i) *= inv_diag[i];
+  }
+}
+
+/// L⁻¹ of a lower-triangular fixed-size L (only the lower triangle is read): lower triangular.
+template <class Mat>
+Mat lowerTriangularInverse(const Mat& L) noexcept {
+  constexpr int n = Mat::RowsAtCompileTime;
+  Mat W = Mat::Zero();
+  for (int i = 0; i < n; ++i) {
+    const typename Mat::Scalar inv = typename Mat::Scalar(1) / L(i, i);
+    W(i, i) = inv;
+    // Row i of W: −(Σ_{k<i} L(i,k) W(k, ·)) / L(i,i); columns > i stay zero.
+    for (int k = 0; k < i; ++k) W.row(i).head(i) -= L(i, k) * W.row(k).head(i);
+    W.row(i).head(i) *= inv;
+  }
+  return W;
 }
 
 /// Back substitution, in place: B ← R⁻¹ B for an upper-triangular fixed-size R (only the upper
 /// triangle is read).
 template <class MatR, class MatB>
 void upperSolveInPlace(const MatR& R, MatB& B) noexcept {
-  const int n = static_cast<int>(R.rows());
-  for (int c = 0; c < static_cast<int>(B.cols()); ++c)
-    for (int i = n - 1; i >= 0; --i) {
-      auto v = B(i, c);
-      for (int k = i + 1; k < n; ++k) v -= R(i, k) * B(k, c);
-      B(i, c) = v / R(i, i);
-    }
+  constexpr int n = MatR::RowsAtCompileTime;
+  // The reciprocals first: independent divisions overlap, instead of one per row in the chain.
+  typename MatR::Scalar inv_diag[n];
+  for (int i = 0; i < n; ++i) inv_diag[i] = typename MatR::Scalar(1) / R(i, i);
+  for (int i = n - 1; i >= 0; --i) {
+    for (int k = i + 1; k < n; ++k) B.row(i) -= R(i, k) * B.row(k);
+    B.row(i) *= inv_diag[i];
+  }
+}
+
+/// R⁻¹ of an upper-triangular fixed-size R (only the upper triangle is read): upper triangular.
+template <class Mat>
+Mat upperTriangularInverse(const Mat& R) noexcept {
+  constexpr int n = Mat::RowsAtCompileTime;
+  Mat U = Mat::Zero();
+  for (int i = n - 1; i >= 0; --i) {
+    const typename Mat::Scalar inv = typename Mat::Scalar(1) / R(i, i);
+    U(i, i) = inv;
+    for (int k = i + 1; k < n; ++k) U.row(i).tail(n - 1 - i) -= R(i, k) * U.row(k).tail(n - 1 - i);
+    U.row(i).tail(n - 1 - i) *= inv;
+  }
+  return U;
 }
 
 /// Symmetrises in place: S ← ½ (S + Sᵀ).
