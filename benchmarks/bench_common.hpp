@@ -17,7 +17,7 @@
 namespace lieservo_bench {
 
 inline constexpr std::size_t kRing = 256;  // power of two
-inline constexpr double kPi = 3.14159265358979323846;
+inline constexpr double kPi = lieservo::pi<double>();
 inline constexpr double kDeg = kPi / 180.0;
 
 /// A random tangent vector of G: translation components uniform in ±t_max, rotation vector

@@ -23,7 +23,7 @@ fi
 "$build/benchmarks/lieservo_speed_error_report" --csv "$tmp/report.csv"
 "$py" "$here/plot_report.py" "$tmp/report.csv" "$tmp/table.md" "$root/docs/performance_pareto.png"
 : > "$tmp/steps.csv"
-[[ "${LIESERVO_REPORT_SKIP_STEPS:-0}" == 1 ]] || "$build/benchmarks/lieservo_bench" --benchmark_filter='BM_(FilterStep|ServoStep|PushingStep|Cycle)' \
+[[ "${LIESERVO_REPORT_SKIP_STEPS:-0}" == 1 ]] || "$build/benchmarks/lieservo_bench" --benchmark_filter='BM_(FilterStep|ServoStep|PushingStep|Cycle)|BM_exp<SE3<double>>$' \
   --benchmark_repetitions=9 --benchmark_report_aggregates_only=true --benchmark_min_time=0.2 \
   --benchmark_format=csv 2>/dev/null > "$tmp/steps.csv" || true
 "$build/benchmarks/lieservo_speed_error_report" --dump "$tmp/cases.csv"
@@ -86,6 +86,14 @@ if cpp_filter and "filter" in np_t:
     out.append(f"filter step {np_t['filter'] / 1e3:.0f} µs (NumPy) vs {cpp_filter / 1e3:.2f} µs (C++): **{np_t['filter'] / cpp_filter:.0f}×**")
 if out:
     print("Speed ratio NumPy / C++ (wall-clock medians, same machine, same load, double): " + "; ".join(out) + ".")
+cpp_exp = None
+for r in (csv.DictReader(lines[start:]) if start is not None else []):
+    if r["name"] == "BM_exp<SE3<double>>_median":
+        cpp_exp = float(r["real_time"])
+if cpp_filter and cpp_exp:
+    print()
+    print(f"Filter step against one SE(3) exp in the same run: {cpp_filter:.0f} ns / {cpp_exp:.1f} ns = "
+          f"**{cpp_filter / cpp_exp:.0f}×** (target ≤ 50×).")
 PY
   echo
   echo "#### Speed against error of the fusion (Algorithm 3, alg:se3_data_fusion)"

@@ -38,7 +38,7 @@ using lieservo::SE3;
 using lieservo::SO3;
 using lieservo::Status;
 using LD = long double;
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = lieservo::pi<double>();
 constexpr double kDeg = kPi / 180.0;
 
 /// One fusion problem, stored in double (cast to each scalar type; the reference uses the

@@ -28,7 +28,7 @@ Prediction predicted(OnnxPoseModel& model, const cv::Mat& image) {
 }
 
 const std::string kData = LIESERVO_ADAPTERS_TEST_DATA;
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
+constexpr double kDeg = lieservo::pi<double>() / 180.0;
 
 /// Same synthetic inputs as make_tiny_model.py.
 cv::Mat syntheticInput(int k) {

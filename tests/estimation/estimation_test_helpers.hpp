@@ -12,7 +12,7 @@
 
 namespace lieservo::est_test {
 
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
+constexpr double kDeg = lieservo::pi<double>() / 180.0;
 
 template <class Vec, class Rng>
 Vec randn(Rng& rng, double scale = 1.0) {

@@ -428,7 +428,7 @@ TEMPLATE_TEST_CASE("filter: bad input returns a clear Status and leaves the stat
     // An observation π away in rotation from the belief: on the cut locus.
     o = good;
     typename G::Tangent d = G::Tangent::Zero();
-    d[4] = S(EIGEN_PI);
+    d[4] = lieservo::pi<S>();
     const G bel_mean = (next.inverse() * f.sensorPose()) * f.filtered().mean;
     o.mean = G::exp(d) * bel_mean;
     add("observation pi away (cut locus)", o, next, Status::invalid_argument, true);

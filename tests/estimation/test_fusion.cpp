@@ -531,7 +531,7 @@ TEST_CASE("fusion: hard cases", "[estimation][fusion][hard]") {
     for (const Eigen::Vector3d& axis : {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 0, 1),
                                        Eigen::Vector3d(1, 2, -3).normalized()}) {
       G::Tangent d = G::Tangent::Zero();
-      d.tail<3>() = EIGEN_PI * axis;
+      d.tail<3>() = lieservo::pi<double>() * axis;
       d.head<3>() << 1, 2, 3;
       const G b = G::exp(d) * a;
       const ConcentratedGaussian<G> fa(a, 0.01 * G::Jacobian::Identity()), fb(b, 0.01 * G::Jacobian::Identity());
@@ -541,25 +541,25 @@ TEST_CASE("fusion: hard cases", "[estimation][fusion][hard]") {
       CHECK(fuse(fb, fa, FusionOptions<double>{}, r) == Status::invalid_argument);
       CHECK(r.iterations == -7);  // untouched
       // Slightly less than π: fused, finite, separation reported.
-      d.tail<3>() = (EIGEN_PI - 1e-3) * axis;
+      d.tail<3>() = (lieservo::pi<double>() - 1e-3) * axis;
       const ConcentratedGaussian<G> fc(G::exp(d) * a, 0.01 * G::Jacobian::Identity());
       REQUIRE(fuse(fa, fc, FusionOptions<double>{}, r) == Status::ok);
       CHECK(r.fused.mean.allFinite());
       CHECK(r.fused.covariance.allFinite());
-      CHECK(r.max_rotation_separation == Approx(EIGEN_PI - 1e-3).epsilon(1e-9));
+      CHECK(r.max_rotation_separation == Approx(lieservo::pi<double>() - 1e-3).epsilon(1e-9));
       REQUIRE(fuse<ClosedFormJacobian>(fa, fc, FusionOptions<double>{}, r) == Status::ok);
       CHECK(r.fused.mean.allFinite());
     }
     // The other groups.
     {
       const ConcentratedGaussian<SO2d> x(SO2d(0.3), SO2d::Jacobian::Constant(0.01)),
-          y(SO2d(0.3 + EIGEN_PI), SO2d::Jacobian::Constant(0.01));
+          y(SO2d(0.3 + lieservo::pi<double>()), SO2d::Jacobian::Constant(0.01));
       FusionResult<SO2d> r;
       CHECK(fuse(x, y, FusionOptions<double>{}, r) == Status::invalid_argument);
     }
     {
       const ConcentratedGaussian<SO3d> x(SO3d(), SO3d::Jacobian::Identity() * 0.01),
-          y(SO3d::exp(SO3d::Tangent(0, EIGEN_PI, 0)), SO3d::Jacobian::Identity() * 0.01);
+          y(SO3d::exp(SO3d::Tangent(0, lieservo::pi<double>(), 0)), SO3d::Jacobian::Identity() * 0.01);
       FusionResult<SO3d> r;
       CHECK(fuse(x, y, FusionOptions<double>{}, r) == Status::invalid_argument);
     }

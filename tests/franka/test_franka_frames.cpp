@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <franka_frames.hpp>
+#include <lieservo/units.hpp>
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -18,7 +19,7 @@ TEST_CASE("franka frames: column-major O_T_EE is read as libfranka lays it out",
   Matrix3 R;
   Vector3 p;
   REQUIRE(poseFromColumnMajor(a, R, p) == Status::ok);
-  CHECK(R.isApprox(Eigen::AngleAxisd(M_PI / 2, Vector3::UnitZ()).toRotationMatrix(), 1e-15));
+  CHECK(R.isApprox(Eigen::AngleAxisd(lieservo::pi<double>() / 2, Vector3::UnitZ()).toRotationMatrix(), 1e-15));
   CHECK(p.isApprox(Vector3(0.3, -0.1, 0.5)));
   const Matrix4 M = homogeneous(a);
   CHECK(M(0, 1) == -1);

@@ -68,8 +68,8 @@ class Bytes {
                                    std::numeric_limits<double>::quiet_NaN(),
                                    std::numeric_limits<double>::denorm_min(),
                                    std::numeric_limits<double>::max(),
-                                   3.14159265358979323846,
-                                   -3.14159265358979323846,
+                                   lieservo::pi<double>(),
+                                   -lieservo::pi<double>(),
                                    1e-12,
                                    1e12};
         return specials[u8() % (sizeof specials / sizeof specials[0])];

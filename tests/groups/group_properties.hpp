@@ -132,9 +132,9 @@ double nearPiError(const typename G::Tangent& back, const typename G::Tangent& x
   using S = typename G::Scalar;
   const double err = static_cast<double>((back - xi).norm());
   const double th = rotationAngle<G>(xi);
-  if (3.14159265358979323846 - th > 64 * epsOf<S>() || th == 0) return err;
+  if (lieservo::pi<double>() - th > 64 * epsOf<S>() || th == 0) return err;
   typename G::Tangent alt = xi;
-  alt.template segment<RotIndex<G>::count>(RotIndex<G>::start) *= S(1 - 2 * 3.14159265358979323846 / th);
+  alt.template segment<RotIndex<G>::count>(RotIndex<G>::start) *= S(1 - 2 * lieservo::pi<double>() / th);
   const typename G::Tangent back_alt_frame = back;
   const double err_alt =
       static_cast<double>((back_alt_frame.template segment<RotIndex<G>::count>(RotIndex<G>::start) -
@@ -152,8 +152,8 @@ void checkHardCases() {
   using S = typename G::Scalar;
   const double p = static_cast<double>(pi<S>());
   std::vector<double> angles = {0, 1e-12, 1e-8, 1e-4, 1e-2, 0.5, 1, 2};
-  for (int k = 1; k <= 12; ++k) angles.push_back(3.14159265358979323846 - std::pow(10.0, -k));
-  std::vector<double> wrap = {3.14159265358979323846, 2 * 3.14159265358979323846, 3 * 3.14159265358979323846, 7.5};
+  for (int k = 1; k <= 12; ++k) angles.push_back(lieservo::pi<double>() - std::pow(10.0, -k));
+  std::vector<double> wrap = {lieservo::pi<double>(), 2 * lieservo::pi<double>(), 3 * lieservo::pi<double>(), 7.5};
   const std::vector<double> trans = {0, 1, 1e3, 1e6};
   std::mt19937_64 rng(3);
   const double eps = epsOf<S>();

@@ -18,7 +18,7 @@ TEMPLATE_TEST_CASE("Euler xyz: C = Rz(g) Ry(b) Rx(a) and round trip", "[core][co
   std::mt19937_64 rng(1);
   std::uniform_real_distribution<double> u(-1, 1);
   for (int i = 0; i < 2000; ++i) {
-    const S a = S(M_PI * u(rng)), b = S(M_PI / 2 * u(rng)), g = S(M_PI * u(rng));
+    const S a = S(lieservo::pi<double>() * u(rng)), b = S(lieservo::pi<double>() / 2 * u(rng)), g = S(lieservo::pi<double>() * u(rng));
     const typename G::Matrix ref = (Eigen::AngleAxis<S>(g, V::UnitZ()) * Eigen::AngleAxis<S>(b, V::UnitY()) *
                                     Eigen::AngleAxis<S>(a, V::UnitX()))
                                        .toRotationMatrix();
@@ -32,7 +32,7 @@ TEMPLATE_TEST_CASE("Euler xyz: C = Rz(g) Ry(b) Rx(a) and round trip", "[core][co
     CHECK(static_cast<double>((G::fromEulerXYZDegrees(ed).matrix() - C.matrix()).norm()) <= tol);
   }
   // gimbal lock: β = ±90°, the composite still round-trips (γ is set to 0)
-  for (S b : {S(M_PI / 2), S(-M_PI / 2)}) {
+  for (S b : {S(lieservo::pi<double>() / 2), S(-lieservo::pi<double>() / 2)}) {
     const G C = G::fromEulerXYZ(S(0.3), b, S(-0.7));
     const V e = C.toEulerXYZ();
     CHECK(static_cast<double>((G::fromEulerXYZ(e).matrix() - C.matrix()).norm()) <= 1e3 * lst::epsOf<S>());
@@ -61,7 +61,7 @@ TEST_CASE("units: deg2rad/rad2deg are constexpr and exact at simple angles", "[c
   static_assert(lieservo::deg2rad(180.0) == lieservo::pi<double>(), "constexpr deg2rad");
   static_assert(lieservo::rad2deg(lieservo::pi<double>()) == 180.0, "constexpr rad2deg");
   static_assert(lieservo::deg2rad(180) == lieservo::pi<double>(), "integers compute in double");
-  CHECK(lieservo::deg2rad(90.0f) == Approx(M_PI / 2).epsilon(1e-7));
+  CHECK(lieservo::deg2rad(90.0f) == Approx(lieservo::pi<double>() / 2).epsilon(1e-7));
   CHECK(lieservo::rad2deg(1.0) == Approx(57.29577951308232).epsilon(1e-15));
 }
 

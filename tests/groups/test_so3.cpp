@@ -54,7 +54,7 @@ TEMPLATE_TEST_CASE("SO3 log near and at pi", "[core][so3]", float, double) {
     const typename G::Matrix C = S(2) * a * a.transpose() - G::Matrix::Identity();  // exactly symmetric
     const V phi = G::fromMatrixUnchecked(C).log();
     INFO("axis " << a.transpose() << " log " << phi.transpose());
-    CHECK(std::abs(static_cast<double>(phi.norm()) - 3.14159265358979323846) <= 8 * eps);
+    CHECK(std::abs(static_cast<double>(phi.norm()) - lieservo::pi<double>()) <= 8 * eps);
     int k = 0;
     for (int i = 1; i < 3; ++i)
       if (std::abs(a(i)) > std::abs(a(k))) k = i;
@@ -64,8 +64,8 @@ TEMPLATE_TEST_CASE("SO3 log near and at pi", "[core][so3]", float, double) {
   // π − 10^-k about random axes: the angle and axis come back to a few ulps.
   std::mt19937_64 rng(5);
   for (int k = 1; k <= 12; ++k) {
-    const double angle = 3.14159265358979323846 - std::pow(10.0, -k);
-    if (static_cast<double>(S(angle)) >= 3.14159265358979323846) continue;
+    const double angle = lieservo::pi<double>() - std::pow(10.0, -k);
+    if (static_cast<double>(S(angle)) >= lieservo::pi<double>()) continue;
     const V xi = lst::tangentWithAngle<G>(rng, angle, 0.0);
     const V back = G::exp(xi).log();
     INFO("pi - 1e-" << k << ": " << (back - xi).norm());
@@ -91,14 +91,14 @@ TEMPLATE_TEST_CASE("SO3 log with trace rounded past 3 or -1", "[core][so3]", flo
   C << S(1) + e, S(0), S(0), S(0), -S(1) - e, S(0), S(0), S(0), -S(1) - e;
   phi = G::fromMatrixUnchecked(C).log();
   CHECK(phi.allFinite());
-  CHECK(std::abs(static_cast<double>(phi.norm()) - 3.14159265358979323846) <= 8 * lst::epsOf<S>());
+  CHECK(std::abs(static_cast<double>(phi.norm()) - lieservo::pi<double>()) <= 8 * lst::epsOf<S>());
   CHECK(static_cast<double>(phi(0)) > 0);
 }
 
 TEST_CASE("SO3 closed forms match hand-computed values", "[core][so3]") {
   using G = lieservo::SO3d;
   // Rz(90°) maps x to y.
-  const G R = G::exp(Eigen::Vector3d(0, 0, M_PI / 2));
+  const G R = G::exp(Eigen::Vector3d(0, 0, lieservo::pi<double>() / 2));
   CHECK((R * Eigen::Vector3d(1, 0, 0) - Eigen::Vector3d(0, 1, 0)).norm() <= 1e-15);
   // J(φ) for φ = (0, 0, θ): [[s/θ, −(1−c)/θ, 0], [(1−c)/θ, s/θ, 0], [0, 0, 1]].
   const double t = 0.7;
@@ -119,7 +119,7 @@ TEMPLATE_TEST_CASE("SO3 log (and logWithTerms) of a matrix against a long-double
   namespace d = lieservo::detail;
   std::mt19937_64 rng(77);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  const double pi = 3.14159265358979323846;
+  const double pi = lieservo::pi<double>();
   double worst = 0, worst_at = 0, worst_same = 0, worst_theta2 = 0, worst_trig = 0, worst_omc = 0,
          worst_omc_ctor = 0;
   int direct = 0, quaternion = 0, closed = 0;

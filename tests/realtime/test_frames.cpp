@@ -2,6 +2,7 @@
 // and a finite-difference check of the rigid-body kinematics.
 #include <catch2/catch.hpp>
 
+#include <lieservo/units.hpp>
 #include <lieservo/groups/se3.hpp>
 #include <lieservo/realtime/frames.hpp>
 
@@ -58,7 +59,7 @@ TEST_CASE("frames: hand-computed twist conversions", "[realtime][frames]") {
     // A body velocity +z of the sensor (pressing into a surface below) is base −z.
     SensorMount m;
     m.p_es = Vector3(0, 0, 0.12);
-    const Matrix3 R = rotX(M_PI);
+    const Matrix3 R = rotX(lieservo::pi<double>());
     CHECK(sensorTwistToBase(R, m, twist(0, 0, 0.02, 0, 0, 0)).isApprox(twist(0, 0, -0.02, 0, 0, 0)));
     // Sensor ω_x = w: base ω = (w, 0, 0); r_O = R p_ES = (0, 0, −0.12);
     // ṗ_E = r_O × ω_O = (0,0,−0.12) × (w,0,0) = (0, −0.12 w, 0).
@@ -69,7 +70,7 @@ TEST_CASE("frames: hand-computed twist conversions", "[realtime][frames]") {
     // R_ES = Ry(90°) = [[0,0,1],[0,1,0],[−1,0,0]]: sensor x → EE −z, sensor z → EE x.
     // p_ES = (0.08, 0, 0.05) m.
     SensorMount m;
-    m.R_es = Eigen::AngleAxisd(M_PI / 2, Vector3::UnitY()).toRotationMatrix();
+    m.R_es = Eigen::AngleAxisd(lieservo::pi<double>() / 2, Vector3::UnitY()).toRotationMatrix();
     m.p_es = Vector3(0.08, 0, 0.05);
     // Pushing feedforward 10 mm/s along sensor z → 0.01 m/s along EE x (= base x here).
     CHECK(sensorTwistToBase(Matrix3::Identity(), m, twist(0, 0, 10, 0, 0, 0), 1e-3).isApprox(twist(0.01, 0, 0, 0, 0, 0)));
@@ -123,7 +124,7 @@ TEST_CASE("frames: sensor pose and checked conversion from the EE pose T_OE", "[
   SensorMount m;
   m.R_es = rotZ(0.3);
   m.p_es = Vector3(0, 0, 120);  // mm: the pose output is in mm
-  const Matrix3 R = rotX(M_PI);
+  const Matrix3 R = rotX(lieservo::pi<double>());
   const Matrix4 T = homogeneous(R, Vector3(0.4, 0.0, 0.3));
   Matrix4 X;
   REQUIRE(sensorPoseFromHomogeneous(T, m, 1e3, X) == Status::ok);

@@ -3,6 +3,7 @@
 
 #include "limit_checker.hpp"
 
+#include <lieservo/units.hpp>
 #include <lieservo/realtime/velocity_pipeline.hpp>
 
 #include <Eigen/Geometry>
@@ -15,7 +16,7 @@ namespace {
 
 // A perfect velocity-controlled arm: p += ṗ dt, R ← exp(ω dt) R (base-frame ω).
 struct FakeArm {
-  Matrix3 R = Eigen::AngleAxisd(M_PI, Vector3::UnitX()).toRotationMatrix();  // pointing down
+  Matrix3 R = Eigen::AngleAxisd(lieservo::pi<double>(), Vector3::UnitX()).toRotationMatrix();  // pointing down
   Vector3 p = Vector3(0.4, 0.0, 0.3);
   void integrate(const std::array<double, 6>& v, double dt) {
     const Eigen::Map<const Vector6> x(v.data());

@@ -136,7 +136,7 @@ void syntheticSequence(std::size_t n, std::vector<Sample>& samples, std::vector<
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::normal_distribution<double> g(0.0, 1.0);
-  const double sigma[6] = {0.5, 0.5, 0.15, 0.6 * M_PI / 180, 0.8 * M_PI / 180, 1.5 * M_PI / 180};
+  const double sigma[6] = {0.5, 0.5, 0.15, 0.6 * lieservo::pi<double>() / 180, 0.8 * lieservo::pi<double>() / 180, 1.5 * lieservo::pi<double>() / 180};
   samples.clear();
   obs.clear();
   for (std::size_t i = 0; i < n; ++i) {

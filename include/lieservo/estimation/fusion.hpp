@@ -28,6 +28,7 @@
 #include <Eigen/Core>
 
 #include "../status.hpp"
+#include "../units.hpp"
 #include "concentrated_gaussian.hpp"
 #include "detail/linalg.hpp"
 #include "jacobian_policy.hpp"
@@ -224,7 +225,7 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
       // A_i = L_i⁻¹ J_i⁻¹ (so A_iᵀA_i = J_i⁻ᵀ Σ_i⁻¹ J_i⁻¹), b_i = L_i⁻¹ ξ_i
       info.add(W[i].lazyProduct(Jinv), W[i] * xi);
     }
-    if (it == 0 && max_sep > Scalar(EIGEN_PI) - cutLocusMargin<Scalar>())
+    if (it == 0 && max_sep > pi<Scalar>() - cutLocusMargin<Scalar>())
       return Status::invalid_argument;
     info.compress();
     R = info.R();
