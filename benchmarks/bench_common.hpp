@@ -8,11 +8,11 @@
 
 #include <cmath>
 #include <cstddef>
-#include <random>
 #include <vector>
 
 #include <lieservo/estimation.hpp>
 #include <lieservo/lieservo.hpp>
+#include <lieservo/sampling/random.hpp>
 
 namespace lieservo_bench {
 
@@ -25,8 +25,9 @@ inline constexpr double kDeg = kPi / 180.0;
 template <class G, class Rng>
 typename G::Tangent randomTangent(Rng& rng, double t_max, double rot_max) {
   using Scalar = typename G::Scalar;
-  std::uniform_real_distribution<double> u(-1.0, 1.0), a(0.0, 1.0);
-  std::normal_distribution<double> n(0.0, 1.0);
+  const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -1.0, 1.0); };
+  const auto a = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0.0, 1.0); };
+  const auto n = [](auto& gen) { return lieservo::sampling::standardNormal(gen); };
   typename G::Tangent xi;
   constexpr int R = G::Dim * (G::Dim - 1) / 2;  // rotational DoF (the tail of ξ)
   for (int i = 0; i < G::DoF - R; ++i) xi(i) = Scalar(t_max * u(rng));
@@ -41,7 +42,8 @@ typename G::Tangent randomTangent(Rng& rng, double t_max, double rot_max) {
 template <class G, class Rng>
 typename G::Tangent randomSigma(Rng& rng) {
   using Scalar = typename G::Scalar;
-  std::uniform_real_distribution<double> st(0.1, 1.0), sr(0.5 * kDeg, 2.0 * kDeg);
+  const auto st = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0.1, 1.0); };
+  const auto sr = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0.5 * kDeg, 2.0 * kDeg); };
   constexpr int R = G::Dim * (G::Dim - 1) / 2;
   typename G::Tangent s;
   for (int i = 0; i < G::DoF; ++i) s(i) = Scalar(i < G::DoF - R ? st(rng) : sr(rng));
@@ -55,8 +57,8 @@ struct GroupInputs {
   std::vector<G> X, Y;                   // group elements
   std::vector<typename G::Point> p;      // points
   GroupInputs() {
-    std::mt19937_64 rng(20240601);
-    std::uniform_real_distribution<double> u(-5.0, 5.0);
+    lieservo::sampling::Rng rng(20240601);
+    const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -5.0, 5.0); };
     for (std::size_t i = 0; i < kRing; ++i) {
       xi.push_back(randomTangent<G>(rng, 5.0, 1.0));
       X.push_back(G::exp(randomTangent<G>(rng, 5.0, 25 * kDeg)));
@@ -82,7 +84,7 @@ struct FilterInputs {
   std::vector<Tangent> mu, sigma;
   std::vector<lieservo::ConcentratedGaussian<G>> obs;
   FilterInputs() {
-    std::mt19937_64 rng(7);
+    lieservo::sampling::Rng rng(7);
     G pose = G::identity();
     const Tangent feature = randomTangent<G>(rng, 3.0, 10 * kDeg);
     for (std::size_t i = 0; i < kRing; ++i) {

@@ -24,12 +24,12 @@
 #include <cstring>
 #include <functional>
 #include <memory>
-#include <random>
 #include <string>
 #include <vector>
 
 #include <lieservo/estimation.hpp>
 #include <lieservo/lieservo.hpp>
+#include <lieservo/sampling/random.hpp>
 
 namespace {
 
@@ -52,10 +52,11 @@ struct Reference {
   Eigen::Matrix<LD, 6, 6> cov;
 };
 
-Eigen::Matrix<double, 6, 1> randomTangent(std::mt19937_64& rng, double t_max, double rot_lo, double rot_hi,
+Eigen::Matrix<double, 6, 1> randomTangent(lieservo::sampling::Rng& rng, double t_max, double rot_lo, double rot_hi,
                                           bool log_angle = false) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0), a(0.0, 1.0);
-  std::normal_distribution<double> n(0.0, 1.0);
+  const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -1.0, 1.0); };
+  const auto a = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0.0, 1.0); };
+  const auto n = [](auto& gen) { return lieservo::sampling::standardNormal(gen); };
   Eigen::Matrix<double, 6, 1> xi;
   for (int i = 0; i < 3; ++i) xi(i) = t_max * u(rng);
   Eigen::Vector3d axis(n(rng), n(rng), n(rng));
@@ -65,15 +66,16 @@ Eigen::Matrix<double, 6, 1> randomTangent(std::mt19937_64& rng, double t_max, do
   xi.tail<3>() = ang * axis;
   return xi;
 }
-Eigen::Matrix<double, 6, 1> gdnSigma(std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> st(0.1, 1.0), sr(0.5 * kDeg, 2.0 * kDeg);
+Eigen::Matrix<double, 6, 1> gdnSigma(lieservo::sampling::Rng& rng) {
+  const auto st = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0.1, 1.0); };
+  const auto sr = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0.5 * kDeg, 2.0 * kDeg); };
   Eigen::Matrix<double, 6, 1> s;
   for (int i = 0; i < 6; ++i) s(i) = i < 3 ? st(rng) : sr(rng);
   return s;
 }
 
 std::vector<Case> realisticCases(int n) {
-  std::mt19937_64 rng(12345);
+  lieservo::sampling::Rng rng(12345);
   std::vector<Case> v;
   for (int i = 0; i < n; ++i)
     v.push_back({randomTangent(rng, 5.0, 0, 25 * kDeg), randomTangent(rng, 5.0, 0, 25 * kDeg), gdnSigma(rng),
@@ -82,9 +84,9 @@ std::vector<Case> realisticCases(int n) {
 }
 
 std::vector<Case> hardCases(int n_each) {
-  std::mt19937_64 rng(987);
+  lieservo::sampling::Rng rng(987);
   std::vector<Case> v;
-  std::uniform_real_distribution<double> a(0.0, 1.0);
+  const auto a = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0.0, 1.0); };
   for (int i = 0; i < n_each; ++i) {  // relative rotation π − δ: mu2's rotation = mu1's axis, angle + (π − δ)
     Case c{randomTangent(rng, 5.0, 0, 10 * kDeg), {}, gdnSigma(rng), gdnSigma(rng)};
     const SE3<double> X1 = SE3<double>::exp(c.mu1);
@@ -280,7 +282,7 @@ int dumpPolicy(std::FILE* f, const std::vector<Case>& cases) {
       std::fprintf(f, "\n");
     }
     // Filter steps: reset with obs 0 at sensor pose S0, then step(S1, obs1).
-    std::mt19937_64 rng(55);
+    lieservo::sampling::Rng rng(55);
     typename lieservo::DiscriminativeBayesFilter<G, Policy>::Options fo;
     fo.fusion = opt;
     for (std::size_t k = 0; k + 1 < cases.size(); ++k) {

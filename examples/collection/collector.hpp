@@ -30,6 +30,7 @@
 
 #include <lieservo/groups/se3.hpp>
 #include <lieservo/sampling/contact_sampling.hpp>
+#include <lieservo/sampling/random.hpp>
 #include <lieservo/status.hpp>
 
 #include <chrono>
@@ -40,7 +41,6 @@
 #include <filesystem>
 #include <iostream>
 #include <limits>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -85,9 +85,9 @@ struct CollectionResult {
   std::vector<std::string> notes;  ///< repairs made on resume (torn row cut, orphan image)
 };
 
-/// The sampling plan: n poses from std::mt19937_64(seed). Throws on invalid ranges.
+/// The sampling plan: n poses from lieservo::sampling::Rng(seed). Throws on invalid ranges.
 inline std::vector<ContactPose> collectionPlan(const CollectionConfig& c) {
-  std::mt19937_64 rng(c.seed);
+  lieservo::sampling::Rng rng(c.seed);
   std::vector<ContactPose> plan;
   const Status st = sampling::sampleSurfaceContactPoses(rng, c.n_samples, c.ranges, plan, c.sort_by_depth);
   if (st != Status::ok) throw DatasetError(std::string("invalid sampling ranges: ") + describe(st));

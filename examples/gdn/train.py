@@ -111,6 +111,8 @@ def main(argv=None):
                     'the others) out of training, for calibrate_sigma.py')
     ap.add_argument('--augment', choices=sorted(AUGMENT_PRESETS), default='none',
                     help='training-image augmentation preset (augment.py); none = the paper')
+    ap.add_argument('--weight-decay', type=float, default=0.0,
+                    help='decoupled weight decay (AdamW) per unit learning rate; 0 = Adam, as the paper')
     ap.add_argument('--threads', type=int, default=1)
     ap.add_argument('--seed', type=int, default=0)
     ap.add_argument('--out', required=True, help='run directory (checkpoints, history)')
@@ -173,7 +175,12 @@ def main(argv=None):
     if args.init == 'keras':
         keras_init_(model)
     n_par = sum(p.numel() for p in model.parameters())
-    opt = torch.optim.Adam(model.parameters(), lr=1e-5, eps=args.adam_eps)
+    if args.weight_decay < 0:
+        raise SystemExit(f'--weight-decay {args.weight_decay}: must be >= 0')
+    if args.weight_decay > 0:   # decoupled: shrinks weights by lr * wd per step, apart from the gradient
+        opt = torch.optim.AdamW(model.parameters(), lr=1e-5, eps=args.adam_eps, weight_decay=args.weight_decay)
+    else:
+        opt = torch.optim.Adam(model.parameters(), lr=1e-5, eps=args.adam_eps)
     rng = np.random.RandomState(args.seed)
     aug = AUGMENT_PRESETS[args.augment]
     aug_gen = torch.Generator().manual_seed(args.seed + 1)
@@ -184,7 +191,7 @@ def main(argv=None):
     print(f'model={args.model} channels={channels} params={n_par} train={n} val={len(Xva)} '
           f'batch={args.batch} steps/epoch={steps} e_max={e_max} threads={args.threads} '
           f'seed={args.seed} bn={args.bn}{tuple(bn)} init={args.init} adam_eps={args.adam_eps:g} '
-          f'holdout={args.holdout} augment={args.augment} sessions={"+".join(sessions)} '
+          f'holdout={args.holdout} augment={args.augment} weight_decay={args.weight_decay:g} sessions={"+".join(sessions)} '
           f'monitor={monitor}', flush=True)
 
     hist = []
@@ -256,7 +263,7 @@ def main(argv=None):
     model.load_state_dict(ck['state_dict'])
     vloss, vmae, _ = evaluate(model, args.model, Xva, Yva, alpha)
     summary = dict(kind=args.model, channels=channels, params=n_par, seed=args.seed,
-                   sessions=sessions, monitor=monitor, augment=args.augment,
+                   sessions=sessions, monitor=monitor, augment=args.augment, weight_decay=args.weight_decay,
                    epochs_run=len(hist), e_max=e_max, best_epoch=best[1],
                    seconds_per_epoch=float(np.mean(ep_times)) if ep_times else None,
                    total_seconds=time.time() - t_start, threads=args.threads,

@@ -22,11 +22,12 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
-#include <random>
 #include <stdexcept>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <lieservo/sampling/random.hpp>
 
 #include "lieservo/estimation.hpp"
 #include "lieservo/groups.hpp"
@@ -189,8 +190,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   if (synthetic_seed >= 0) {
-    std::mt19937_64 g(static_cast<std::uint64_t>(synthetic_seed));
-    std::normal_distribution<double> n(0.0, 1.0);
+    lieservo::sampling::Rng g(static_cast<std::uint64_t>(synthetic_seed));
+    const auto n = [](auto& gen) { return lieservo::sampling::standardNormal(gen); };
     for (Row& r : rows)
       for (int j = 0; j < 6; ++j) r.mu(j) = r.xi(j) + r.sigma(j) * n(g);
   }

@@ -1,6 +1,7 @@
 #include "replay.hpp"
 
 #include <lieservo_dataset/dataset_reader.hpp>
+#include <lieservo/sampling/random.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -11,7 +12,6 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <random>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
@@ -224,8 +224,8 @@ FilterRun replayFilter(const std::vector<Sample>& samples, const std::vector<Con
   fo.process_noise = sd.array().square().matrix().asDiagonal();  // Σφ = Σψ
   fo.fusion = fusion;
   DiscriminativeBayesFilter<SE3d> filter(fo);
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> normal(0.0, 1.0);
+  lieservo::sampling::Rng rng(seed);
+  const auto normal = [](auto& gen) { return lieservo::sampling::standardNormal(gen); };
   run.mu.resize(n);
   run.precision.resize(n);
   long iterations = 0, corrections = 0;

@@ -10,9 +10,9 @@
 //                 <build>/examples/tutorials/lieservo_tutorial_01_groups
 #include <cmath>
 #include <cstdio>
-#include <random>
 
 #include <lieservo/lieservo.hpp>
+#include <lieservo/sampling/random.hpp>
 
 using namespace lieservo;
 using SE3d = SE3<double>;
@@ -26,18 +26,17 @@ void check(bool ok, const char* what, double value) {
   failures += !ok;
 }
 
-Tangent randomTangent(std::mt19937_64& rng, double rho, double phi) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  Tangent xi;
-  for (int i = 0; i < 3; ++i) xi[i] = rho * n(rng);
-  for (int i = 3; i < 6; ++i) xi[i] = phi * n(rng);
-  return xi;
+// A random tangent: normal draws with standard deviation rho (translation) and phi (rotation).
+Tangent randomTangent(sampling::Rng& rng, double rho, double phi) {
+  Tangent sigma;
+  sigma << rho, rho, rho, phi, phi, phi;
+  return sampling::normalVector(rng, sigma);
 }
 
 }  // namespace
 
 int main() {
-  std::mt19937_64 rng(1);
+  sampling::Rng rng(1);  // seeded: the same numbers on every run and platform
 
   std::printf("1. exp and log are inverse (rotation angle below pi)\n");
   const Tangent xi = randomTangent(rng, 10.0, 0.5);  // 10 mm, 0.5 rad

@@ -13,9 +13,9 @@
 //                 <build>/examples/tutorials/lieservo_tutorial_02_gaussians_and_fusion
 #include <cmath>
 #include <cstdio>
-#include <random>
 
 #include <lieservo/lieservo.hpp>
+#include <lieservo/sampling/random.hpp>
 
 using namespace lieservo;
 using SE3d = SE3<double>;
@@ -89,14 +89,12 @@ int main() {
   }
 
   std::printf("4. Monte Carlo: samples X = exp(eps^) Xbar with eps ~ N(0, Sigma) have covariance Sigma\n");
-  std::mt19937_64 rng(2);
-  std::normal_distribution<double> n01(0.0, 1.0);
+  sampling::Rng rng(2);
   const Eigen::LLT<SE3d::Jacobian> llt(r.fused.covariance);
   SE3d::Jacobian S = SE3d::Jacobian::Zero();
   const int N = 20000;
   for (int k = 0; k < N; ++k) {
-    Tangent z;
-    for (int i = 0; i < 6; ++i) z[i] = n01(rng);
+    const Tangent z = sampling::standardNormalVector<6>(rng);  // z ~ N(0, I)
     const SE3d X = lplus(r.fused.mean, Tangent(llt.matrixL() * z));
     const Tangent e = lminus(X, r.fused.mean);
     S += e * e.transpose() / N;

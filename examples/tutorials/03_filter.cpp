@@ -23,10 +23,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <random>
 
 #include <lieservo/estimation.hpp>
 #include <lieservo/groups.hpp>
+#include <lieservo/sampling/random.hpp>
 
 using namespace lieservo;
 using G = SE3<double>;  // poses in mm and radians inside the library
@@ -37,12 +37,6 @@ namespace {
 
 constexpr double kDeg = pi<double>() / 180.0;
 
-Tangent gaussianVector(std::mt19937_64& rng, const Tangent& sigma) {
-  std::normal_distribution<double> n01(0.0, 1.0);
-  Tangent v;
-  for (int i = 0; i < 6; ++i) v[i] = sigma[i] * n01(rng);
-  return v;
-}
 
 /// The "planned" pose-and-shear trajectory: smooth shear and rotation oscillations around a
 /// 1.5 mm deep contact (exponential coordinates [x, y, z, α, β, γ]).
@@ -58,7 +52,7 @@ Tangent planned(int k) {
 
 int main() {
   const auto t_start = std::chrono::steady_clock::now();
-  std::mt19937_64 rng(2024);
+  sampling::Rng rng(2024);
   const int steps = 1000;
 
   // ---- The noise levels ---------------------------------------------------------------------
@@ -95,9 +89,8 @@ int main() {
 
   // A GDN-like estimate of the current contact: μ = ln(X)^∨ + noise, with its σ.
   auto gdnEstimate = [&](const G& X, Tangent& mu, Tangent& sigma) {
-    std::uniform_real_distribution<double> quality(0.6, 1.6);
-    for (int i = 0; i < 6; ++i) sigma[i] = sigma_obs[i] * quality(rng);
-    mu = X.log() + gaussianVector(rng, sigma);
+    for (int i = 0; i < 6; ++i) sigma[i] = sigma_obs[i] * sampling::uniform(rng, 0.6, 1.6);
+    mu = X.log() + sampling::normalVector(rng, sigma);
   };
 
   // Accumulated absolute errors per component (exponential coordinates), before and after.
@@ -132,7 +125,7 @@ int main() {
     // -- the world moves --
     const G T_bar = G::exp(planned(k)) * G::exp(planned(k - 1)).inverse();
     X_sens = X_sens * T_bar.inverse();
-    X_true = G::exp(gaussianVector(rng, sigma_psi)) * T_bar * X_true;
+    X_true = G::exp(sampling::normalVector(rng, sigma_psi)) * T_bar * X_true;
 
     // -- the network looks at the new tactile image --
     gdnEstimate(X_true, mu, sigma);

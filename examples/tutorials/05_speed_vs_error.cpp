@@ -14,10 +14,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <random>
 #include <vector>
 
 #include <lieservo/lieservo.hpp>
+#include <lieservo/sampling/random.hpp>
 
 using namespace lieservo;
 using SE3d = SE3<double>;
@@ -25,12 +25,11 @@ using Tangent = SE3d::Tangent;
 using Gaussian = ConcentratedGaussian<SE3d>;
 
 int main() {
-  std::mt19937_64 rng(5);
-  std::normal_distribution<double> n01(0.0, 1.0);
+  sampling::Rng rng(5);
   auto draw = [&](double rho, double phi) {
-    Tangent t;
-    for (int i = 0; i < 6; ++i) t[i] = (i < 3 ? rho : phi) * n01(rng);
-    return t;
+    Tangent sigma;
+    sigma << rho, rho, rho, phi, phi, phi;
+    return sampling::normalVector(rng, sigma);
   };
 
   // Pairs of beliefs about one contact: an observation and a prediction a few σ apart.

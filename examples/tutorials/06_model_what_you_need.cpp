@@ -12,9 +12,9 @@
 //                 <build>/examples/tutorials/lieservo_tutorial_06_model_what_you_need
 #include <cmath>
 #include <cstdio>
-#include <random>
 
 #include <lieservo/lieservo.hpp>
+#include <lieservo/sampling/random.hpp>
 
 using namespace lieservo;
 
@@ -27,13 +27,8 @@ template <class G>
 bool track(const char* name, const typename G::Tangent& sensor_twist, const typename G::Tangent& sigma_obs,
            const typename G::Tangent& sigma_world, std::uint64_t seed) {
   using Tangent = typename G::Tangent;
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> n01(0.0, 1.0);
-  auto noise = [&](const Tangent& sigma) {
-    Tangent t;
-    for (int i = 0; i < G::DoF; ++i) t[i] = sigma[i] * n01(rng);
-    return t;
-  };
+  sampling::Rng rng(seed);
+  auto noise = [&](const Tangent& sigma) { return sampling::normalVector(rng, sigma); };
 
   // The filter's state noise Σφ: how much the feature may move per step beyond the sensor's
   // own motion (here the truth's random walk, so the filter is well tuned).

@@ -15,12 +15,12 @@
 // Run: <build>/examples/worked/lieservo_fusion_error_table   (output in docs/estimation.md)
 #include <cmath>
 #include <cstdio>
-#include <random>
 
 #include <Eigen/Dense>
 
 #include <lieservo/estimation.hpp>
 #include <lieservo/groups.hpp>
+#include <lieservo/sampling/random.hpp>
 
 using namespace lieservo;
 using G = SE3<double>;
@@ -30,9 +30,9 @@ using Jacobian = G::Jacobian;
 namespace {
 constexpr double kDeg = lieservo::pi<double>() / 180.0;
 
-Jacobian randomCovariance(std::mt19937_64& rng, const Tangent& sigma) {
-  std::normal_distribution<double> n01(0.0, 1.0);
-  std::uniform_real_distribution<double> u(0.2, 1.8);
+Jacobian randomCovariance(lieservo::sampling::Rng& rng, const Tangent& sigma) {
+  const auto n01 = [](auto& gen) { return lieservo::sampling::standardNormal(gen); };
+  const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0.2, 1.8); };
   Jacobian A;
   for (int i = 0; i < 36; ++i) A.data()[i] = n01(rng);
   const Jacobian Q = Eigen::HouseholderQR<Jacobian>(A).householderQ();
@@ -45,9 +45,10 @@ Jacobian randomCovariance(std::mt19937_64& rng, const Tangent& sigma) {
   return 0.5 * (S + S.transpose());
 }
 
-ConcentratedGaussian<G> randomFactor(std::mt19937_64& rng, const G& centre, double t_lo,
+ConcentratedGaussian<G> randomFactor(lieservo::sampling::Rng& rng, const G& centre, double t_lo,
                                      double t_hi, double r_lo, double r_hi) {
-  std::uniform_real_distribution<double> ut(t_lo, t_hi), ur(r_lo * kDeg, r_hi * kDeg);
+  const auto ut = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, t_lo, t_hi); };
+  const auto ur = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, r_lo * kDeg, r_hi * kDeg); };
   Tangent sigma;
   sigma << ut(rng), ut(rng), ut(rng), ur(rng), ur(rng), ur(rng);
   ConcentratedGaussian<G> f;
@@ -78,11 +79,11 @@ bool measure(const ConcentratedGaussian<G>& a, const ConcentratedGaussian<G>& b,
 }
 
 bool table(const char* title, double t_lo, double t_hi, double r_lo, double r_hi, int pairs) {
-  std::mt19937_64 rng(12345);
+  lieservo::sampling::Rng rng(12345);
   const int iters[5] = {1, 2, 3, 5, 10};
   double me[5][5] = {}, ce[5][5] = {};
   for (int p = 0; p < pairs; ++p) {
-    std::normal_distribution<double> n01(0.0, 1.0);
+    const auto n01 = [](auto& gen) { return lieservo::sampling::standardNormal(gen); };
     Tangent c;
     for (int i = 0; i < 6; ++i) c[i] = n01(rng);
     const G centre = G::exp(c);

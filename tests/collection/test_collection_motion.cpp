@@ -21,7 +21,7 @@ TEST_CASE("motion: start above, rotate, press along the normal, shear, lift off"
   wf << 562, -9, 96, -179.5, 0.5, 180;  // the shared data's work frame
   const SE3d X_wf = SE3d::fromEulerXYZ6Degrees(wf);
   KinematicArm arm(SE3d(), true);
-  std::mt19937_64 rng(3);
+  lieservo::sampling::Rng rng(3);
   for (int k = 0; k < 50; ++k) {
     const auto p = lieservo::sampling::sampleSurfaceContactPose<double>(rng);
     arm.clearMoves();
@@ -51,7 +51,7 @@ TEST_CASE("motion: start above, rotate, press along the normal, shear, lift off"
 TEST_CASE("synthetic image source: pose dependent, binarised, valid PNG", "[collection][motion]") {
   KinematicArm arm;
   SyntheticTactileSource cam(arm, SE3d(), 96, 80);
-  std::mt19937_64 rng(9);
+  lieservo::sampling::Rng rng(9);
   std::set<std::vector<std::uint8_t>> seen;
   for (int k = 0; k < 30; ++k) {
     const auto p = lieservo::sampling::sampleSurfaceContactPose<double>(rng);

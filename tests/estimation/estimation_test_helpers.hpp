@@ -3,12 +3,12 @@
 #pragma once
 
 #include <cmath>
-#include <random>
 
 #include <Eigen/Dense>
 
 #include <lieservo/estimation.hpp>
 #include <lieservo/groups.hpp>
+#include <lieservo/sampling/random.hpp>
 
 namespace lieservo::est_test {
 
@@ -16,19 +16,19 @@ constexpr double kDeg = lieservo::pi<double>() / 180.0;
 
 template <class Vec, class Rng>
 Vec randn(Rng& rng, double scale = 1.0) {
-  std::normal_distribution<double> n01(0.0, 1.0);
   Vec v;
-  for (Eigen::Index i = 0; i < v.size(); ++i) v.data()[i] = typename Vec::Scalar(scale * n01(rng));
+  for (Eigen::Index i = 0; i < v.size(); ++i)
+    v.data()[i] = typename Vec::Scalar(scale * lieservo::sampling::standardNormal(rng));
   return v;
 }
 
-inline double uniform(std::mt19937_64& rng, double lo, double hi) {
-  return std::uniform_real_distribution<double>(lo, hi)(rng);
+inline double uniform(lieservo::sampling::Rng& rng, double lo, double hi) {
+  return lieservo::sampling::uniform(rng, lo, hi);
 }
 
 /// A random orthogonal matrix (QR of a Gaussian matrix).
 template <int N>
-Eigen::Matrix<double, N, N> randomOrthogonal(std::mt19937_64& rng) {
+Eigen::Matrix<double, N, N> randomOrthogonal(lieservo::sampling::Rng& rng) {
   const Eigen::Matrix<double, N, N> A = randn<Eigen::Matrix<double, N, N>>(rng);
   Eigen::HouseholderQR<Eigen::Matrix<double, N, N>> qr(A);
   return qr.householderQ();
@@ -37,7 +37,7 @@ Eigen::Matrix<double, N, N> randomOrthogonal(std::mt19937_64& rng) {
 /// Realistic per-component standard deviations for group G: translations σ ∈ [t_lo, t_hi]
 /// (mm), rotations σ ∈ [r_lo, r_hi] (degrees, returned in radians).
 template <class G>
-typename G::Tangent realisticSigma(std::mt19937_64& rng, double t_lo = 0.1, double t_hi = 1.0,
+typename G::Tangent realisticSigma(lieservo::sampling::Rng& rng, double t_lo = 0.1, double t_hi = 1.0,
                                    double r_lo_deg = 0.5, double r_hi_deg = 2.0) {
   constexpr int R = detail::rotationDoF<G>();
   typename G::Tangent s;
@@ -51,7 +51,7 @@ typename G::Tangent realisticSigma(std::mt19937_64& rng, double t_lo = 0.1, doub
 /// correlations (correlation matrix from a random orthogonal basis with eigenvalues in
 /// [0.2, 1.8]).
 template <class G>
-typename G::Jacobian correlatedCovariance(std::mt19937_64& rng, const typename G::Tangent& sigma) {
+typename G::Jacobian correlatedCovariance(lieservo::sampling::Rng& rng, const typename G::Tangent& sigma) {
   constexpr int D = G::DoF;
   const Eigen::Matrix<double, D, D> Q = randomOrthogonal<D>(rng);
   Eigen::Matrix<double, D, 1> ev;
@@ -67,7 +67,7 @@ typename G::Jacobian correlatedCovariance(std::mt19937_64& rng, const typename G
 
 /// Sample from a concentrated Gaussian in double.
 template <class G>
-ConcentratedGaussian<G> randomFactor(std::mt19937_64& rng, const G& centre,
+ConcentratedGaussian<G> randomFactor(lieservo::sampling::Rng& rng, const G& centre,
                                      const typename G::Tangent& sigma) {
   ConcentratedGaussian<G> f;
   f.covariance = correlatedCovariance<G>(rng, sigma);

@@ -4,8 +4,9 @@
 #include <catch2/catch.hpp>
 
 #include <new>
-#include <random>
 #include <vector>
+
+#include <lieservo/sampling/random.hpp>
 
 #include "allocation_counter.hpp"
 #include "estimation_test_helpers.hpp"
@@ -20,7 +21,7 @@ void runAllocationFreeSteps(int steps) {
   using G = SE3<S>;
   using CG = ConcentratedGaussian<G>;
   using Tangent = typename G::Tangent;
-  std::mt19937_64 rng(53);
+  lieservo::sampling::Rng rng(53);
   // Pre-generate every input outside the counting scope.
   std::vector<G> poses;
   std::vector<Tangent> mus, sigmas;

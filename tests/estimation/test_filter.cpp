@@ -35,7 +35,7 @@ template <class G>
 struct Simulator {
   using Tangent = typename G::Tangent;
   using Jacobian = typename G::Jacobian;
-  std::mt19937_64 rng;
+  lieservo::sampling::Rng rng;
   Jacobian Sphi;
   Tangent obs_sigma;        // nominal observation σ per component
   double motion_scale;      // sensor motion per step (tangent σ)
@@ -110,7 +110,7 @@ TEST_CASE("filter: Euclidean limit equals a hand-written linear Kalman filter",
   // the rotation covariances are tiny (1e-14), so the filter reduces to a 3-D linear KF with
   // F = I, the shift u_k = s_{k−1} − s_k (from T̄_k), process noise Q and measurement noise R_k.
   using G = SE3d;
-  std::mt19937_64 rng(29);
+  lieservo::sampling::Rng rng(29);
   const Eigen::Matrix3d Q = correlatedCovariance<G>(rng, G::Tangent::Constant(0.3)).topLeftCorner<3, 3>();
   G::Jacobian Sphi = G::Jacobian::Zero();
   Sphi.topLeftCorner<3, 3>() = Q;
@@ -160,7 +160,7 @@ TEST_CASE("filter: Euclidean limit equals a hand-written linear Kalman filter",
 
 TEST_CASE("filter: SO(2) equals the scalar Kalman filter on the angle", "[estimation][filter]") {
   using G = SO2d;
-  std::mt19937_64 rng(31);
+  lieservo::sampling::Rng rng(31);
   DiscriminativeBayesFilter<G, ClosedFormJacobian>::Options opt;
   opt.process_noise = G::Jacobian::Constant(0.01 * 0.01);
   DiscriminativeBayesFilter<G, ClosedFormJacobian> filter(opt);
@@ -349,7 +349,7 @@ TEMPLATE_TEST_CASE("filter: bad input returns a clear Status and leaves the stat
   using CG = ConcentratedGaussian<G>;
   typename DiscriminativeBayesFilter<G>::Options opt;
   DiscriminativeBayesFilter<G> f(opt);
-  std::mt19937_64 rng(43);
+  lieservo::sampling::Rng rng(43);
   const typename G::Tangent sig = gdnSigma().template cast<S>();
   CG good;
   REQUIRE(fromTangentGaussian(randn<typename G::Tangent>(rng, 0.3), sig, good) == Status::ok);

@@ -7,7 +7,8 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
-#include <random>
+
+#include <lieservo/sampling/random.hpp>
 
 #include "estimation_test_helpers.hpp"
 #include "test_support.hpp"
@@ -57,7 +58,7 @@ typename G::Jacobian manualInverseSeries(const typename G::Tangent& xi, int N) {
 TEMPLATE_TEST_CASE("jacobian policies match the Bernoulli series and the closed form",
                    "[estimation][policy]", SE3d, SO3d, SE2d) {
   using G = TestType;
-  std::mt19937_64 rng(11);
+  lieservo::sampling::Rng rng(11);
   for (int trial = 0; trial < 50; ++trial) {
     const typename G::Tangent xi = randn<typename G::Tangent>(rng, 0.3);
     CHECK((SeriesJacobian<0>::inverse<G>(xi) - manualInverseSeries<G>(xi, 0)).norm() < 1e-14);
@@ -88,8 +89,9 @@ TEST_CASE("triangular inverses and solves of the fusion's square-root form", "[e
   // triangular, and the in-place solves agree with multiplying by them.
   using M6 = Eigen::Matrix<double, 6, 6>;
   using V6 = Eigen::Matrix<double, 6, 1>;
-  std::mt19937_64 rng(20261124);
-  std::uniform_real_distribution<double> u(-1.0, 1.0), e(-6.0, 6.0);
+  lieservo::sampling::Rng rng(20261124);
+  const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -1.0, 1.0); };
+  const auto e = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -6.0, 6.0); };
   double worst = 0.0, worst_solve = 0.0;
   for (int n = 0; n < 100000; ++n) {
     M6 L = M6::Zero();
@@ -145,7 +147,7 @@ TEST_CASE("chi-square CDF and quantiles", "[estimation][chi2]") {
 TEST_CASE("concentrated Gaussian: tangent conversions, transform, inverse, compose",
           "[estimation][gaussian]") {
   using G = SE3d;
-  std::mt19937_64 rng(3);
+  lieservo::sampling::Rng rng(3);
   SECTION("fromTangentGaussian / toTangentGaussian round trip (eq. 14, eq:se3_inverse_transform)") {
     for (int t = 0; t < 20; ++t) {
       const G::Tangent mu = randn<G::Tangent>(rng, 0.5);
@@ -283,7 +285,7 @@ TEST_CASE("mahalanobisSquared refuses non-orthonormal poses", "[estimation][gaus
 }
 
 TEST_CASE("fusion: Euclidean limit equals the product of Gaussians", "[estimation][fusion]") {
-  std::mt19937_64 rng(5);
+  lieservo::sampling::Rng rng(5);
   SECTION("SE(3), translation-only means, tiny rotation covariance") {
     using G = SE3d;
     for (int t = 0; t < 50; ++t) {
@@ -372,7 +374,7 @@ TEST_CASE("fusion: Euclidean limit equals the product of Gaussians", "[estimatio
 TEMPLATE_TEST_CASE("fusion converges to the same answer whichever factor initialises it",
                    "[estimation][fusion]", SE3d, SO3d, SE2d) {
   using G = TestType;
-  std::mt19937_64 rng(7);
+  lieservo::sampling::Rng rng(7);
   for (int t = 0; t < 100; ++t) {
     const G centre = G::exp(randn<typename G::Tangent>(rng, 1.0));
     // Fairly wide factors (σ up to 1 mm / 10°) so that the iteration has work to do.
@@ -410,7 +412,7 @@ TEMPLATE_TEST_CASE("fusion converges to the same answer whichever factor initial
 TEST_CASE("fusion: series orders and iteration counts converge to the closed-form result",
           "[estimation][fusion]") {
   using G = SE3d;
-  std::mt19937_64 rng(13);
+  lieservo::sampling::Rng rng(13);
   double err_paper5 = 0, err_closed10 = 0, err_n1_10 = 0, err_n4_10 = 0, err_closed1 = 0;
   const int trials = 200;
   for (int t = 0; t < trials; ++t) {
@@ -456,7 +458,7 @@ TEST_CASE("fusion: Monte Carlo importance sampling of the normalised product on 
   // = exp(−½ ε2ᵀ Σ2⁻¹ ε2)/|det J(ε2)|: β of the sampled factor cancels exactly; β of the
   // other factor is kept (and its effect reported).
   using G = SE3d;
-  std::mt19937_64 rng(17);
+  lieservo::sampling::Rng rng(17);
   const long n = test::scaledCount(200000, 5000);
   // Concentrated but not tiny: σ_t 0.5–1 mm, σ_r 2–5°, means about one σ apart.
   const G centre = G::exp(randn<G::Tangent>(rng, 1.0));
@@ -525,7 +527,7 @@ TEST_CASE("fusion: Monte Carlo importance sampling of the normalised product on 
 // ---------------------------------------------------------------------------------------------
 TEST_CASE("fusion: hard cases", "[estimation][fusion][hard]") {
   using G = SE3d;
-  std::mt19937_64 rng(19);
+  lieservo::sampling::Rng rng(19);
   SECTION("means pi apart in rotation are reported, not fused") {
     const G a = G::exp(randn<G::Tangent>(rng, 1.0));
     for (const Eigen::Vector3d& axis : {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 0, 1),
@@ -719,7 +721,7 @@ TEST_CASE("fusion: hard cases", "[estimation][fusion][hard]") {
 // ---------------------------------------------------------------------------------------------
 TEST_CASE("fusion: tolerance mode converges in a few iterations", "[estimation][fusion]") {
   using G = SE3d;
-  std::mt19937_64 rng(23);
+  lieservo::sampling::Rng rng(23);
   int max_it = 0;
   for (int t = 0; t < 100; ++t) {
     const G centre = G::exp(randn<G::Tangent>(rng, 1.0));

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <random>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -15,6 +14,9 @@
 namespace lst {
 
 using lieservo::pi;
+using lieservo::sampling::Rng;
+using lieservo::sampling::standardNormalVector;
+using lieservo::sampling::uniform;
 
 template <class S>
 double epsOf() {
@@ -49,16 +51,14 @@ double rotationAngle(const typename G::Tangent& xi) {
 /// Tangent with rotation angle `angle` about a uniformly random axis (sign random in 2-D)
 /// and translation uniform in [−trans, trans]^n.
 template <class G>
-typename G::Tangent tangentWithAngle(std::mt19937_64& rng, double angle, double trans) {
+typename G::Tangent tangentWithAngle(Rng& rng, double angle, double trans) {
   using S = typename G::Scalar;
-  std::normal_distribution<double> nd;
-  std::uniform_real_distribution<double> ud(-1.0, 1.0);
   typename G::Tangent xi;
-  for (int i = 0; i < G::DoF; ++i) xi(i) = S(trans * ud(rng));
+  for (int i = 0; i < G::DoF; ++i) xi(i) = S(trans * uniform(rng, -1.0, 1.0));
   constexpr int r0 = RotIndex<G>::start, rc = RotIndex<G>::count;
   Eigen::Matrix<double, rc, 1> axis;
   do {
-    for (int i = 0; i < rc; ++i) axis(i) = nd(rng);
+    axis = standardNormalVector<rc>(rng);
   } while (axis.norm() < 1e-6);
   axis.normalize();
   for (int i = 0; i < rc; ++i) xi(r0 + i) = S(angle * axis(i));
@@ -67,9 +67,8 @@ typename G::Tangent tangentWithAngle(std::mt19937_64& rng, double angle, double 
 
 /// Random tangent with angle uniform in [0, max_angle).
 template <class G>
-typename G::Tangent randomTangent(std::mt19937_64& rng, double max_angle, double trans) {
-  std::uniform_real_distribution<double> ua(0.0, max_angle);
-  return tangentWithAngle<G>(rng, ua(rng), trans);
+typename G::Tangent randomTangent(Rng& rng, double max_angle, double trans) {
+  return tangentWithAngle<G>(rng, uniform(rng, 0.0, max_angle), trans);
 }
 
 template <class G>
@@ -81,7 +80,7 @@ double matDiff(const G& a, const G& b) {
 template <class G>
 void checkAxioms(int n) {
   using S = typename G::Scalar;
-  std::mt19937_64 rng(7);
+  lieservo::sampling::Rng rng(7);
   const double tol = 64 * epsOf<S>();
   double worst = 0;
   for (int i = 0; i < n; ++i) {
@@ -107,7 +106,7 @@ void checkAxioms(int n) {
 template <class G>
 void checkRoundTrips(int n, double trans) {
   using S = typename G::Scalar;
-  std::mt19937_64 rng(42);
+  lieservo::sampling::Rng rng(42);
   double worst_group = 0, worst_tangent = 0, worst_angle = 0;
   for (int i = 0; i < n; ++i) {
     const G X = G::sampleUniform(rng, S(trans));
@@ -155,7 +154,7 @@ void checkHardCases() {
   for (int k = 1; k <= 12; ++k) angles.push_back(lieservo::pi<double>() - std::pow(10.0, -k));
   std::vector<double> wrap = {lieservo::pi<double>(), 2 * lieservo::pi<double>(), 3 * lieservo::pi<double>(), 7.5};
   const std::vector<double> trans = {0, 1, 1e3, 1e6};
-  std::mt19937_64 rng(3);
+  lieservo::sampling::Rng rng(3);
   const double eps = epsOf<S>();
   for (double tr : trans) {
     for (double a : angles) {
@@ -192,7 +191,7 @@ void checkHardCases() {
 template <class G>
 void checkAdjoint(int n) {
   using S = typename G::Scalar;
-  std::mt19937_64 rng(11);
+  lieservo::sampling::Rng rng(11);
   double worst = 0, worst_conj = 0;
   for (int i = 0; i < n; ++i) {
     const G X = G::sampleUniform(rng, S(2)), Y = G::sampleUniform(rng, S(2));
@@ -222,7 +221,7 @@ template <class G>
 void checkJacobianIdentities(int n) {
   using S = typename G::Scalar;
   using J = typename G::Jacobian;
-  std::mt19937_64 rng(13);
+  lieservo::sampling::Rng rng(13);
   double worst = 0;
   for (int i = 0; i < n; ++i) {
     const double angle = i % 4 == 0 ? 1e-3 * (i % 7) : 3.0 * (i % 97) / 97.0;
@@ -259,7 +258,7 @@ void checkNumericalJacobians(int n) {
   static_assert(std::is_same<typename G::Scalar, double>::value, "numerical Jacobians in double");
   using J = typename G::Jacobian;
   using T = typename G::Tangent;
-  std::mt19937_64 rng(17);
+  lieservo::sampling::Rng rng(17);
   const double h = 1e-5;
   double worst = 0, worst_inv = 0;
   std::vector<double> angles = {0, 1e-9, 1e-6, 1e-3, 0.1, 0.5, 1, 2, 3, 3.14};
@@ -285,7 +284,7 @@ template <template <class> class GT>
 void checkFloatAgainstDouble(int n) {
   using Gd = GT<double>;
   using Gf = GT<float>;
-  std::mt19937_64 rng(19);
+  lieservo::sampling::Rng rng(19);
   double worst = 0;
   for (int i = 0; i < n; ++i) {
     const typename Gd::Tangent xd = randomTangent<Gd>(rng, 3.0, 1.0);
@@ -316,7 +315,7 @@ double seriesError(const typename G::Tangent& xi) {
 template <class G>
 void checkSeriesConvergence(const char* name) {
   const std::vector<double> angles = {0.1, 0.5, 1.0, 2.0, 3.0};
-  std::mt19937_64 rng(23);
+  lieservo::sampling::Rng rng(23);
   std::printf("%s: relative error of the series inverse Jacobian vs closed form (|rho| ~ 1)\n", name);
   std::printf("  theta |      N=0      N=1      N=2      N=4      N=8     N=16     N=32\n");
   for (double a : angles) {
@@ -334,7 +333,7 @@ void checkSeriesConvergence(const char* name) {
 template <class G>
 void checkBch() {
   using T = typename G::Tangent;
-  std::mt19937_64 rng(29);
+  lieservo::sampling::Rng rng(29);
   for (int rep = 0; rep < 20; ++rep) {
     const T big = randomTangent<G>(rng, 2.5, 1.0);
     const T dir = randomTangent<G>(rng, 1.0, 1.0).normalized();
@@ -368,7 +367,7 @@ void checkBch() {
 template <class G>
 void checkInterpolate(int n) {
   using S = typename G::Scalar;
-  std::mt19937_64 rng(31);
+  lieservo::sampling::Rng rng(31);
   double worst = 0;
   for (int i = 0; i < n; ++i) {
     const G A = G::sampleUniform(rng), B = A * G::exp(randomTangent<G>(rng, 3.0, 1.0));
@@ -386,7 +385,7 @@ template <class G>
 void checkCheckedConstruction() {
   using S = typename G::Scalar;
   using M = typename G::Matrix;
-  std::mt19937_64 rng(37);
+  lieservo::sampling::Rng rng(37);
   const G X = G::sampleUniform(rng, S(3));
   const G sentinel = G::sampleUniform(rng, S(3));
   G out = sentinel;
@@ -436,7 +435,7 @@ void checkCheckedConstruction() {
 template <class G>
 void checkSamplingAndCast() {
   using S = typename G::Scalar;
-  std::mt19937_64 r1(99), r2(99);
+  lieservo::sampling::Rng r1(99), r2(99);
   for (int i = 0; i < 10; ++i) CHECK(matDiff(G::sampleUniform(r1, S(5)), G::sampleUniform(r2, S(5))) == 0.0);
   const G X = G::sampleUniform(r1, S(5));
   CHECK(X.allFinite());

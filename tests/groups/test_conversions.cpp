@@ -15,8 +15,8 @@ TEMPLATE_TEST_CASE("Euler xyz: C = Rz(g) Ry(b) Rx(a) and round trip", "[core][co
   using G = SO3<S>;
   using V = typename G::Vector3;
   const double tol = 16 * lst::epsOf<S>();
-  std::mt19937_64 rng(1);
-  std::uniform_real_distribution<double> u(-1, 1);
+  lieservo::sampling::Rng rng(1);
+  const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -1, 1); };
   for (int i = 0; i < 2000; ++i) {
     const S a = S(lieservo::pi<double>() * u(rng)), b = S(lieservo::pi<double>() / 2 * u(rng)), g = S(lieservo::pi<double>() * u(rng));
     const typename G::Matrix ref = (Eigen::AngleAxis<S>(g, V::UnitZ()) * Eigen::AngleAxis<S>(b, V::UnitY()) *
@@ -69,7 +69,7 @@ TEMPLATE_TEST_CASE("Quaternion conversions", "[core][conversions]", float, doubl
   using S = TestType;
   using G = SO3<S>;
   const double tol = 16 * lst::epsOf<S>();
-  std::mt19937_64 rng(2);
+  lieservo::sampling::Rng rng(2);
   for (int i = 0; i < 2000; ++i) {
     const G C = G::sampleUniform(rng);
     const Eigen::Quaternion<S> q = C.unitQuaternion();
@@ -86,7 +86,7 @@ TEMPLATE_TEST_CASE("Quaternion conversions", "[core][conversions]", float, doubl
 TEMPLATE_TEST_CASE("Isometry and 4x4 conversions", "[core][conversions]", float, double) {
   using S = TestType;
   using G = SE3<S>;
-  std::mt19937_64 rng(3);
+  lieservo::sampling::Rng rng(3);
   for (int i = 0; i < 200; ++i) {
     const G X = G::sampleUniform(rng, S(10));
     const typename G::Isometry T = X.isometry();
@@ -103,7 +103,7 @@ TEMPLATE_TEST_CASE("Isometry and 4x4 conversions", "[core][conversions]", float,
 
 TEST_CASE("1e6 compositions stay orthonormal with normalize() every 100", "[core][conversions]") {
   using G = lieservo::SO3d;
-  std::mt19937_64 rng(4);
+  lieservo::sampling::Rng rng(4);
   std::vector<G> steps;
   for (int i = 0; i < 64; ++i) steps.push_back(G::exp(lst::randomTangent<G>(rng, 0.3, 0.0)));
   G C, raw;
@@ -136,7 +136,7 @@ TEST_CASE("1e6 compositions stay orthonormal with normalize() every 100", "[core
 
 TEST_CASE("normalize() repairs drifted rotations and is idempotent", "[core][conversions]") {
   using G = lieservo::SO3d;
-  std::mt19937_64 rng(5);
+  lieservo::sampling::Rng rng(5);
   for (int i = 0; i < 1000; ++i) {
     const G C = G::sampleUniform(rng);
     G D = G::fromMatrixUnchecked(C.matrix() + 1e-6 * Eigen::Matrix3d::Random());
@@ -152,7 +152,7 @@ TEST_CASE("normalize() repairs drifted rotations and is idempotent", "[core][con
 
 TEST_CASE("SO3 uniform sampling looks uniform", "[core][conversions]") {
   using G = lieservo::SO3d;
-  std::mt19937_64 rng(6);
+  lieservo::sampling::Rng rng(6);
   Eigen::Matrix3d mean = Eigen::Matrix3d::Zero();
   double mean_cos = 0;
   const int n = 20000;

@@ -2,7 +2,7 @@
 // and validateElement. Properties over 10⁵ seeded samples per group, plus named cases.
 #include <catch2/catch.hpp>
 
-#include <random>
+#include <lieservo/sampling/random.hpp>
 
 #include "group_properties.hpp"
 
@@ -12,7 +12,7 @@ TEMPLATE_TEST_CASE("lplus/lminus: inverse operations on the principal branch", "
                    SO2<double>, SE2<double>, SO3<double>, SE3<double>, SE3<float>) {
   using G = TestType;
   using S = typename G::Scalar;
-  std::mt19937_64 rng(2024);
+  lieservo::sampling::Rng rng(2024);
   const int n = 100000;
   // Tolerances relative to eps (written before the run): the round trip goes through one exp,
   // one product, one inverse and one log, each accurate to a few ulp; 2000 eps leaves room

@@ -41,7 +41,7 @@ static double blockSeriesDeviation(const lieservo::SE3d::Tangent& xi) {
 }
 
 TEST_CASE("SE3 block series inverse Jacobian equals the dense Horner series", "[core][se3]") {
-  std::mt19937_64 rng(31);
+  lieservo::sampling::Rng rng(31);
   for (int rep = 0; rep < 20000; ++rep) {
     const lieservo::SE3d::Tangent xi = lst::randomTangent<lieservo::SE3d>(rng, 3.0, 50.0);
     const double d[7] = {blockSeriesDeviation<0>(xi), blockSeriesDeviation<1>(xi),
@@ -61,7 +61,7 @@ TEMPLATE_TEST_CASE("SE3 checked construction", "[core][se3]", float, double) {
   using G = SE3<S>;
   lst::checkCheckedConstruction<G>();
   // a bottom row other than [0 0 0 1] is rejected with invalid_argument, out untouched
-  std::mt19937_64 rng(1);
+  lieservo::sampling::Rng rng(1);
   const G X = G::sampleUniform(rng, S(2));
   G out;
   typename G::Matrix M = X.matrix();
@@ -89,7 +89,7 @@ static Eigen::Matrix<long double, 6, 6> leftJacobianSeriesLd(const Eigen::Matrix
 
 TEST_CASE("SE3 closed-form left Jacobian (Barfoot Q) equals its defining series", "[core][se3]") {
   using G = lieservo::SE3d;
-  std::mt19937_64 rng(2);
+  lieservo::sampling::Rng rng(2);
   const std::vector<double> angles = {0, 1e-12, 1e-8, 1e-4, 1e-2, 0.1, 0.44, 0.5, 1.0, 1.16, 1.2, 2.0, 3.0, 3.14};
   double worst = 0, worst_inv = 0;
   for (double a : angles) {
@@ -126,7 +126,7 @@ TEST_CASE("SE3 tiny rotation with a huge translation", "[core][se3]") {
 
 TEST_CASE("SE3 adjoint matches the paper's block form", "[core][se3]") {
   using G = lieservo::SE3d;
-  std::mt19937_64 rng(4);
+  lieservo::sampling::Rng rng(4);
   const G X = G::sampleUniform(rng, 3.0);
   const Eigen::Matrix3d C = X.rotationMatrix();
   const Eigen::Vector3d r = X.translation();

@@ -62,7 +62,7 @@ TEMPLATE_TEST_CASE("SO3 log near and at pi", "[core][so3]", float, double) {
     CHECK(static_cast<double>((phi - expect).norm()) <= 16 * eps);
   }
   // π − 10^-k about random axes: the angle and axis come back to a few ulps.
-  std::mt19937_64 rng(5);
+  lieservo::sampling::Rng rng(5);
   for (int k = 1; k <= 12; ++k) {
     const double angle = lieservo::pi<double>() - std::pow(10.0, -k);
     if (static_cast<double>(S(angle)) >= lieservo::pi<double>()) continue;
@@ -117,8 +117,8 @@ TEMPLATE_TEST_CASE("SO3 log (and logWithTerms) of a matrix against a long-double
   using S = TestType;
   using ld = long double;
   namespace d = lieservo::detail;
-  std::mt19937_64 rng(77);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
+  lieservo::sampling::Rng rng(77);
+  const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0.0, 1.0); };
   const double pi = lieservo::pi<double>();
   double worst = 0, worst_at = 0, worst_same = 0, worst_theta2 = 0, worst_trig = 0, worst_omc = 0,
          worst_omc_ctor = 0;

@@ -2,6 +2,7 @@
 // and a finite-difference check of the rigid-body kinematics.
 #include <catch2/catch.hpp>
 
+#include <lieservo/sampling/random.hpp>
 #include <lieservo/units.hpp>
 #include <lieservo/groups/se3.hpp>
 #include <lieservo/realtime/frames.hpp>
@@ -9,7 +10,6 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <limits>
-#include <random>
 
 using lieservo::Status;
 using namespace lieservo::realtime;
@@ -86,8 +86,8 @@ TEST_CASE("frames: conversion matches finite differences of the rigid-body motio
   // Move the SENSOR with body twist ξ_s for a tiny h (X_OS(h) = X_OS exp(h ξ_s^)), recover the
   // EE pose X_OE(h) = X_OS(h) X_ES⁻¹, and compare (p_OE(h) − p_OE)/h and the rotation rate
   // with the converted command.
-  std::mt19937 rng(42);
-  std::uniform_real_distribution<double> u(-1, 1);
+  lieservo::sampling::Rng rng(42);
+  const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -1, 1); };
   for (int trial = 0; trial < 50; ++trial) {
     const Matrix3 R_oe = Eigen::Quaterniond::UnitRandom().toRotationMatrix();
     const Vector3 p_oe(u(rng), u(rng), u(rng));
@@ -188,8 +188,8 @@ TEST_CASE("frames: the conversion is Ad(X_O'S) of the library's SE3 (mixed twist
   // O_dP_EE = Ad(X_O'S) ξ_s with X_O'S = (R_OS, R_OE p_ES), Ad = [[C, r^C], [0, C]].
   using SE3d = lieservo::SE3<double>;
   using SO3d = lieservo::SO3<double>;
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> u(-1, 1);
+  lieservo::sampling::Rng rng(7);
+  const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -1, 1); };
   for (int trial = 0; trial < 20; ++trial) {
     const Matrix3 R_oe = Eigen::Quaterniond::UnitRandom().toRotationMatrix();
     SensorMount m;

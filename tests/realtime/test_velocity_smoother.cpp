@@ -6,10 +6,10 @@
 #include "test_support.hpp"
 
 #include <lieservo/realtime/velocity_smoother.hpp>
+#include <lieservo/sampling/random.hpp>
 
 #include <cmath>
 #include <limits>
-#include <random>
 
 using lieservo::Status;
 using lieservo::realtime::AxisLimits;
@@ -37,8 +37,8 @@ SmootherLimits<double> limitSet(int which) {
   }
 }
 
-Twist randomTwist(std::mt19937& rng, const SmootherLimits<double>& l, double scale) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
+Twist randomTwist(lieservo::sampling::Rng& rng, const SmootherLimits<double>& l, double scale) {
+  const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -1.0, 1.0); };
   Twist t;
   for (int i = 0; i < 6; ++i) t[i] = scale * u(rng) * (i < 3 ? l.translation.velocity : l.rotation.velocity);
   return t;
@@ -77,7 +77,7 @@ TEST_CASE("smoother: seeded random targets never exceed velocity, acceleration o
     VelocitySmoother<double> s;
     REQUIRE(s.setLimits(L) == Status::ok);
     LimitChecker check{L, kDt};
-    std::mt19937 rng(1234u + static_cast<unsigned>(which));
+    lieservo::sampling::Rng rng(1234u + static_cast<unsigned>(which));
     const long segments = lieservo::test::scaledCount(600, 60);
     for (long seg = 0; seg < segments; ++seg) {
       // Targets up to 3x the velocity limit (clamped inside), held 1..400 steps; every
@@ -130,7 +130,7 @@ TEST_CASE("smoother: step from rest is time-optimal in 1-D and never overshoots"
 
 TEST_CASE("smoother: vector step from rest goes straight, without overshoot", "[realtime][smoother]") {
   const auto L = limitSet(0);
-  std::mt19937 rng(99);
+  lieservo::sampling::Rng rng(99);
   VelocitySmoother<double> s;
   REQUIRE(s.setLimits(L) == Status::ok);
   const long trials = lieservo::test::scaledCount(100, 10);
@@ -186,7 +186,7 @@ TEST_CASE("smoother: settles within its bound from random moving states", "[real
     const auto L = limitSet(which);
     VelocitySmoother<double> s;
     REQUIRE(s.setLimits(L) == Status::ok);
-    std::mt19937 rng(2024u + static_cast<unsigned>(which));
+    lieservo::sampling::Rng rng(2024u + static_cast<unsigned>(which));
     LimitChecker check{L, kDt};
     const long trials = lieservo::test::scaledCount(300, 30);
     for (long trial = 0; trial < trials; ++trial) {
@@ -222,8 +222,8 @@ TEST_CASE("smoother: variable dt keeps acceleration and jerk exact, velocity wit
   const auto L = limitSet(0);
   VelocitySmoother<double> s;
   REQUIRE(s.setLimits(L) == Status::ok);
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> udt(0.5e-3, 3e-3);
+  lieservo::sampling::Rng rng(5);
+  const auto udt = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0.5e-3, 3e-3); };
   Twist v_prev = Twist::Zero(), a_prev = Twist::Zero();
   double worst = 0, worst_v = 0;
   const long segments = lieservo::test::scaledCount(200, 20);

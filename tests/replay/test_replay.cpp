@@ -8,11 +8,11 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <random>
 #include <string>
 
 #include <opencv2/imgcodecs.hpp>
 
+#include <lieservo/sampling/random.hpp>
 #include "lieservo/estimation/concentrated_gaussian.hpp"
 #include "file_test_util.hpp"
 #include "plots.hpp"
@@ -59,8 +59,8 @@ TEST_CASE("replay: every scatter-plot panel shows its data, an empty plot shows 
   const std::string dir = file_test::makeTempDir("replay_plots");
   // 50 points per component inside the axes (actual = predicted ± a little).
   std::vector<std::array<double, 6>> actual, predicted, precision;
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> U(-5, 5);
+  lieservo::sampling::Rng rng(7);
+  const auto U = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -5, 5); };
   for (int i = 0; i < 50; ++i) {
     std::array<double, 6> a{}, p{}, q{};
     for (std::size_t j = 0; j < 6; ++j) {
@@ -133,9 +133,9 @@ namespace {
 /// A synthetic sequence of random contacts in the data set's ranges, with GDN-like noisy
 /// observations of known σ (mm, deg).
 void syntheticSequence(std::size_t n, std::vector<Sample>& samples, std::vector<ConcentratedGaussian<SE3d>>& obs) {
-  std::mt19937_64 rng(7);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::normal_distribution<double> g(0.0, 1.0);
+  lieservo::sampling::Rng rng(7);
+  const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -1.0, 1.0); };
+  const auto g = [](auto& gen) { return lieservo::sampling::standardNormal(gen); };
   const double sigma[6] = {0.5, 0.5, 0.15, 0.6 * lieservo::pi<double>() / 180, 0.8 * lieservo::pi<double>() / 180, 1.5 * lieservo::pi<double>() / 180};
   samples.clear();
   obs.clear();

@@ -19,7 +19,6 @@
 #include "test_support.hpp"
 
 #include <cmath>
-#include <random>
 #include <vector>
 
 using lieservo::SE3;
@@ -43,7 +42,7 @@ struct Drawn {
 };
 
 Drawn drawMany(std::uint64_t seed, std::size_t n, const ContactSamplingRanges<double>& r = {}) {
-  std::mt19937_64 rng(seed);
+  lieservo::sampling::Rng rng(seed);
   Drawn d;
   for (std::size_t i = 0; i < n; ++i) {
     ContactDraws<double> dr;
@@ -81,31 +80,6 @@ std::vector<long> capCells(const std::vector<double>& phis, const std::vector<do
 
 }  // namespace
 
-TEST_CASE("uniformCanonical: values in 0..1, portable bits, seeded, any 2^k-1 generator", "[sampling]") {
-  std::mt19937_64 a(42), b(42);
-  std::mt19937 c32(42);
-  double mean = 0, mean32 = 0;
-  for (int i = 0; i < 10000; ++i) {
-    const double u = uniformCanonical<double>(a);
-    REQUIRE(u >= 0.0);
-    REQUIRE(u < 1.0);
-    REQUIRE(u == uniformCanonical<double>(b));  // same seed, same sequence
-    mean += u / 10000;
-    const double v = uniformCanonical<double>(c32);  // two 32-bit draws per value
-    REQUIRE(v >= 0.0);
-    REQUIRE(v < 1.0);
-    mean32 += v / 10000;
-    const float f = uniformCanonical<float>(c32);
-    REQUIRE(f >= 0.0f);
-    REQUIRE(f < 1.0f);
-  }
-  CHECK(mean == Approx(0.5).margin(0.02));
-  CHECK(mean32 == Approx(0.5).margin(0.02));
-  // 53 high bits of one 64-bit draw: reproducible across platforms.
-  std::mt19937_64 g(7), h(7);
-  CHECK(uniformCanonical<double>(g) == static_cast<double>(h() >> 11) * std::ldexp(1.0, -53));
-}
-
 TEST_CASE("ranges: paper defaults, validation", "[sampling]") {
   ContactSamplingRanges<double> r;
   CHECK(r.r_max_mm == 5);
@@ -124,7 +98,7 @@ TEST_CASE("ranges: paper defaults, validation", "[sampling]") {
   bad = r;
   bad.r_max_mm = std::nan("");
   CHECK(bad.validate() == Status::non_finite_input);
-  std::mt19937_64 rng(1);
+  lieservo::sampling::Rng rng(1);
   std::vector<SurfaceContactPose<double>> out(3);
   CHECK(sampleSurfaceContactPoses(rng, 10, bad, out) == Status::non_finite_input);
   CHECK(out.size() == 3);  // unchanged unless ok
@@ -140,7 +114,7 @@ TEST_CASE("equation mappings: disk, cap, their inverse", "[sampling]") {
   const auto ab0 = capAngles(phi_max, 0.0, 1.234);
   CHECK(ab0(0) == Approx(0).margin(1e-15));
   CHECK(ab0(1) == Approx(0).margin(1e-15));
-  std::mt19937_64 rng(3);
+  lieservo::sampling::Rng rng(3);
   for (int i = 0; i < 1000; ++i) {
     const double pp = uniformCanonical<double>(rng), th = 2 * kPi * uniformCanonical<double>(rng) - kPi;
     const auto ab = capAngles(phi_max, pp, th);
@@ -174,7 +148,7 @@ TEST_CASE("samples respect the ranges (default and custom)", "[sampling]") {
     }
   }
   // float instantiation
-  std::mt19937 rf(1);
+  lieservo::sampling::Rng rf(1);
   for (int i = 0; i < 1000; ++i) {
     const auto p = sampleSurfaceContactPose<float>(rf, ContactSamplingRanges<float>{});
     REQUIRE(std::hypot(p.x, p.y) <= 5.0f * (1 + 1e-6f));
@@ -182,7 +156,7 @@ TEST_CASE("samples respect the ranges (default and custom)", "[sampling]") {
     REQUIRE((surfaceContactTransform(p).matrix() - SE3<float>::fromEulerXYZ6(p.euler6()).matrix()).cwiseAbs().maxCoeff() < 1e-5f);
   }
   // the same seed gives the same plan; sorting by depth keeps the multiset
-  std::mt19937_64 a(5), b(5);
+  lieservo::sampling::Rng a(5), b(5);
   std::vector<SurfaceContactPose<double>> p1, p2;
   REQUIRE(sampleSurfaceContactPoses(a, 200, ContactSamplingRanges<double>{}, p1) == Status::ok);
   REQUIRE(sampleSurfaceContactPoses(b, 200, ContactSamplingRanges<double>{}, p2, true) == Status::ok);
@@ -211,7 +185,7 @@ TEST_CASE("translational shear is uniform over the disk (eq. 1, eqn:disk_random_
   CHECK(ksPValue(ksStatisticUniform(u_theta), kN) > kAlpha);
 
   // Negative control: r = r_max·r' (uniform radius, a common mistake) is rejected by both.
-  std::mt19937_64 rng(2024);
+  lieservo::sampling::Rng rng(2024);
   std::vector<double> wx, wy, wu;
   for (std::size_t i = 0; i < kN; ++i) {
     const double r = 5.0 * uniformCanonical<double>(rng), t = 2 * kPi * uniformCanonical<double>(rng);
@@ -245,7 +219,7 @@ TEST_CASE("contact angles are uniform over the spherical cap (eq. 2, eqn:sphere_
   CHECK(ksPValue(ksStatisticUniform(u_theta), kN) > kAlpha);
 
   // Negative control: tilt uniform in angle, φ = φ_max·φ' (over-samples the cap's centre).
-  std::mt19937_64 rng(4711);
+  lieservo::sampling::Rng rng(4711);
   std::vector<double> wp, wt, wu;
   for (std::size_t i = 0; i < kN; ++i) {
     const double phi = phi_max * uniformCanonical<double>(rng);

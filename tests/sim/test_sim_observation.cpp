@@ -1,7 +1,8 @@
 // GDN-like observation model: calibration to the per-component MAE, heteroscedasticity.
-#include <random>
 
 #include <catch2/catch.hpp>
+
+#include <lieservo/sampling/random.hpp>
 
 #include "lieservo_sim/contact_model.hpp"
 #include "lieservo_sim/observation_model.hpp"
@@ -10,8 +11,8 @@ using namespace lieservo::sim;
 
 namespace {
 // A contact drawn from the paper's training distribution (Section 3.1.2, sec:data_collection).
-ContactState sampleTrainingContact(std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> U(0, 1);
+ContactState sampleTrainingContact(lieservo::sampling::Rng& rng) {
+  const auto U = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0, 1); };
   const double r = 5 * std::sqrt(U(rng)), th = 2 * kPi * U(rng);
   const double z = 0.5 + 5.5 * U(rng);
   const double phi = std::acos(1 - (1 - std::cos(deg(25))) * U(rng)), th2 = 2 * kPi * U(rng);
@@ -32,7 +33,7 @@ ContactState sampleTrainingContact(std::mt19937_64& rng) {
 TEST_CASE("observation: MAE over the training distribution matches the calibration", "[sim][observation]") {
   const GdnCalibration cal = GdnCalibration::paperTable1();
   GdnObservationModel gdn(cal, {}, 42);
-  std::mt19937_64 rng(7);
+  lieservo::sampling::Rng rng(7);
   Vec6 mae = Vec6::Zero();
   const int N = 40000;
   for (int i = 0; i < N; ++i) {

@@ -6,9 +6,9 @@
 #include <catch2/catch.hpp>
 
 #include <fstream>
-#include <random>
 #include <string>
 
+#include <lieservo/sampling/random.hpp>
 #include <lieservo_adapters/onnx_pose_model.hpp>
 #include <lieservo_adapters/preprocessing.hpp>
 #include <lieservo_sim/real_observation.hpp>
@@ -59,8 +59,8 @@ TEST_CASE("real observations: the k-d tree's nearest image is the brute-force ne
   mean /= double(n);
   for (std::size_t i = 0; i < n; ++i) sq += (real.labelEuler(i) - mean).cwiseAbs2();
   const Vec6 scale = (sq / double(n - 1)).cwiseSqrt();
-  std::mt19937_64 rng(7);
-  std::uniform_real_distribution<double> u(-1, 1);
+  lieservo::sampling::Rng rng(7);
+  const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -1, 1); };
   for (int q = 0; q < 2000; ++q) {
     Vec6 e;  // over and beyond the data's range: shear ±7 mm, depth −1…8 mm, tilts ±35°, γ ±8°
     e << 7 * u(rng), 7 * u(rng), 3.5 + 4.5 * u(rng), deg(35) * u(rng), deg(35) * u(rng), deg(8) * u(rng);

@@ -79,11 +79,13 @@ TEST_CASE("task (c): single-arm pushing reaches the target", "[sim][task]") {
 
 // KNOWN FAILURES, marked [!shouldfail] so that CI stays green while they fail and goes red
 // when they start to pass (then remove the tag and fold them into the tests above):
-// docs/simulation.md, "Open problems". The large square on MDF ends 10–12 mm from the target
-// in some trials (the paper: 4.45 ± 0.78 mm); on round objects the dual-arm follower's radial
-// push leaves a sideways force and the leader passes the target.
+// docs/simulation.md, "Open problems". The large square on MDF ends 13–19 mm from the target
+// in the trials placed furthest from the nominal start (the paper: 4.45 ± 0.78 mm); on round
+// objects the dual-arm follower's radial push leaves a sideways force and the leader passes
+// the target.
 namespace {
-// One seeded push of shortObjects()[object] on MDF.
+// One push of shortObjects()[object] on MDF; `seed` is the trial seed (the demo's trial i of
+// seed N uses 1000 N + i).
 PushTrial pushOnMdf(std::size_t object, bool dual_arm, std::uint64_t seed, double follower_y_gain = 0) {
   TaskOptions o;
   o.seed = seed;
@@ -92,13 +94,13 @@ PushTrial pushOnMdf(std::size_t object, bool dual_arm, std::uint64_t seed, doubl
   s.surface = SupportSpec::mdf();
   s.dual_arm = dual_arm;
   s.follower_y_gain = follower_y_gain;
-  return runPushTrial(s, o, 1);
+  return runPushTrial(s, o, seed);
 }
 }  // namespace
 
 TEST_CASE("task (c), known failure: the large square on MDF ends within 10 mm of the target",
           "[sim][task][!shouldfail]") {
-  const PushTrial t = pushOnMdf(0, false, 11);
+  const PushTrial t = pushOnMdf(0, false, 1001);  // the demo's first trial
   CHECK(t.terminated);
   CHECK(t.target_error < Bounds::pushing_error_max);
 }

@@ -92,7 +92,7 @@ GdnObservation GdnObservationModel::observe(const ContactState& c) {
   GdnObservation o;
   o.truth = c.X_fs.inverse().log();  // ξ = log(X_sf)^∨
   o.sigma = sigmaFor(c);
-  for (int i = 0; i < 6; ++i) o.mu[i] = o.truth[i] + o.sigma[i] * normal_(rng_);
+  for (int i = 0; i < 6; ++i) o.mu[i] = o.truth[i] + o.sigma[i] * lieservo::sampling::standardNormal(rng_);
   return o;
 }
 

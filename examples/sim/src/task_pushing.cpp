@@ -4,8 +4,9 @@
 // Work frame: the support is the x–y plane, z up. The leader's sensor starts at
 // (x, y, z) = (−250, 100, 45) mm with its axis along +x (right-angle mount: x_s up,
 // y_s = −y_w), the object is placed centrally in front of it with a face normal to the sensor
-// axis at 1 mm depth (seeded jitter: ±2 mm sideways, ±2° yaw), and the target is
-// (x, y) = (0, 375) mm. The dual-arm follower starts opposite, normal to the far face at 3 mm.
+// axis at 1 mm depth (seeded jitter: sideways and yaw normal, sd 2 mm and 2°, clipped at
+// 2 sd), and the target is (x, y) = (0, 375) mm. The dual-arm follower starts opposite, normal
+// to the far face at 3 mm.
 //
 // Each control period (20 Hz): observation → filter → controller → twist; then, per MuJoCo
 // step, each sensor arm moves by its twist (MujocoSensorArm), the engine steps (objects slide,
@@ -19,12 +20,12 @@
 #include <exception>
 #include <limits>
 #include <memory>
-#include <random>
 #include <thread>
 
 #include <lieservo/control/dual_arm.hpp>
 #include <lieservo/control/presets.hpp>
 #include <lieservo/control/pushing_controller.hpp>
+#include <lieservo/sampling/random.hpp>
 
 #include "task_common.hpp"
 
@@ -57,9 +58,9 @@ PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& opt, std::u
   const int substeps = detail::stepsPerPeriod(dt);
   const double h = dt / substeps;
   const double R = opt.contact.tip_radius;
-  std::mt19937_64 rng(trial_seed * 6364136223846793005ULL + 1442695040888963407ULL);
-  std::normal_distribution<double> N01(0, 1);
-  std::uniform_real_distribution<double> U(0.9, 1.1);
+  lieservo::sampling::Rng rng(trial_seed * 6364136223846793005ULL + 1442695040888963407ULL);
+  const auto N01 = [](auto& gen) { return lieservo::sampling::standardNormal(gen); };
+  const auto U = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0.9, 1.1); };
 
   // The scene: support (friction ±10 %), the object in front of the leader, one or two sensors.
   mujoco::SceneSpec scene;

@@ -12,11 +12,11 @@
 // unchecked fast paths for inputs the caller has already validated.
 #pragma once
 
-#include <random>
 #include <type_traits>
 
 #include <Eigen/Core>
 
+#include "../sampling/random.hpp"
 #include "../status.hpp"
 #include "../units.hpp"
 #include "detail/linalg.hpp"
@@ -210,15 +210,14 @@ Status mahalanobisSquared(const ConcentratedGaussian<G>& x, const G& X,
 }
 
 /// Draws X = exp(ε^) X̄ with ε ~ N(0, Σ) (Σ must be SPD; uses its Cholesky factor).
-/// Not real-time (uses std::normal_distribution); for simulations and tests.
-template <class G, class Rng>
-G sample(const ConcentratedGaussian<G>& x, Rng& rng) {
+/// Not real-time; for simulations and tests. The draws come from sampling::standardNormal, so a
+/// seed gives the same sample on every platform.
+template <class G, class URBG>
+G sample(const ConcentratedGaussian<G>& x, URBG& rng) {
   using Scalar = typename G::Scalar;
   typename G::Jacobian L;
   if (detail::choleskyChecked(x.covariance, L) != Status::ok) return x.mean;
-  std::normal_distribution<double> n01(0.0, 1.0);
-  typename G::Tangent z;
-  for (int i = 0; i < G::DoF; ++i) z[i] = Scalar(n01(rng));
+  const typename G::Tangent z = sampling::standardNormalVector<G::DoF, Scalar>(rng);
   return G::exp(L * z) * x.mean;
 }
 

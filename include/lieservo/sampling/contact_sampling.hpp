@@ -24,12 +24,12 @@
 // Units: lengths in mm (the caller's unit), angles in radians inside; the ranges are given
 // in mm and degrees (the paper's and the data set's units) and converted here.
 // Sampling is seeded: every draw comes from the caller's uniform random bit generator via
-// uniformCanonical(), which does not depend on the standard library's distributions, so a
-// seed gives the same sequence on every platform.
+// uniformCanonical() (sampling/random.hpp), so a seed gives the same sequence on every platform.
 #pragma once
 
 #include <lieservo/groups/se3.hpp>
 #include <lieservo/groups/so3.hpp>
+#include <lieservo/sampling/random.hpp>
 #include <lieservo/status.hpp>
 #include <lieservo/units.hpp>
 
@@ -38,55 +38,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-#include <cstdint>
-#include <limits>
-#include <type_traits>
 #include <vector>
 
 namespace lieservo::sampling {
-
-namespace detail {
-constexpr int bitWidth(std::uint64_t v) {
-  int n = 0;
-  while (v != 0) {
-    ++n;
-    v >>= 1;
-  }
-  return n;
-}
-}  // namespace detail
-
-/// A uniform draw in [0, 1) with std::numeric_limits<Scalar>::digits random bits, built from
-/// the generator's raw output only (portable: std::uniform_real_distribution is not
-/// specified bit-for-bit). The generator's range max()−min() must be 2^k − 1 (true for
-/// std::mt19937, std::mt19937_64, std::ranlux48_base, ...).
-template <class Scalar, class URBG>
-Scalar uniformCanonical(URBG& rng) {
-  static_assert(std::is_floating_point_v<Scalar>, "Scalar must be a floating-point type");
-  using R = typename URBG::result_type;
-  static_assert(std::is_unsigned_v<R>, "URBG must produce unsigned integers");
-  constexpr std::uint64_t range = static_cast<std::uint64_t>(URBG::max() - URBG::min());
-  static_assert(range != 0 && (range & (range + 1)) == 0,
-                "URBG range must be 2^k - 1 (e.g. std::mt19937_64)");
-  constexpr int kbits = detail::bitWidth(range);
-  constexpr int need = std::numeric_limits<Scalar>::digits < 63 ? std::numeric_limits<Scalar>::digits : 63;
-  std::uint64_t acc = 0;
-  int have = 0;
-  while (have < need) {
-    std::uint64_t v = static_cast<std::uint64_t>(rng() - URBG::min());
-    const int take = kbits < need - have ? kbits : need - have;
-    v >>= (kbits - take);  // keep the high bits
-    acc = (acc << take) | v;
-    have += take;
-  }
-  return static_cast<Scalar>(acc) * std::ldexp(Scalar(1), -need);
-}
-
-/// a + (b − a)·u, u uniform in [0, 1): the paper's 𝒰(a, b).
-template <class Scalar, class URBG>
-Scalar uniform(URBG& rng, Scalar a, Scalar b) {
-  return a + (b - a) * uniformCanonical<Scalar>(rng);
-}
 
 /// Sampling ranges at the edge, in mm and degrees. Defaults: the paper's Section 3.1.2 (sec:data_collection)
 /// (and the shared data set's collect_params.json / meta.json).

@@ -22,9 +22,9 @@
 #pragma once
 
 #include <cstdint>
-#include <random>
 #include <string>
 
+#include <lieservo/sampling/random.hpp>
 #include <lieservo/status.hpp>
 
 #include "common.hpp"
@@ -97,8 +97,7 @@ class GdnObservationModel final : public ObservationSource {
   GdnCalibration calib_;
   HeteroscedasticShape shape_;
   Vec6 sigma_bar_;
-  std::mt19937_64 rng_;
-  std::normal_distribution<double> normal_{0.0, 1.0};
+  lieservo::sampling::Rng rng_;
 };
 
 }  // namespace lieservo::sim

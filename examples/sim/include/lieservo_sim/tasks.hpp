@@ -151,7 +151,7 @@ struct PushingCase {
   bool success = false;
   std::vector<std::string> failures;
 };
-/// One trial (seeded: object placement jitter ±2 mm / ±2°, support friction ±10 %, GDN noise).
+/// One trial (seeded: object placement jitter with sd 2 mm / 2° clipped at 2 sd, support friction ±10 %, GDN noise).
 PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& opt, std::uint64_t trial_seed);
 /// `trials` seeded trials of one set-up (the paper: 5), judged against Bounds unless `judged`
 /// is false.
