@@ -37,7 +37,7 @@ void usage(std::ostream& os) {
         "  --split NAME      the split to replay: DIR/NAME/targets.csv and processed_images/; default val\n"
         "  --models DIR      model_card.json, gdn.onnx, cnn.onnx; default " LIESERVO_DEFAULT_MODELS_DIR "\n"
         "  --quick N         only the split's first N images\n"
-        "  --plots DIR       write predicted-vs-actual scatter plots (PNG) here\n"
+        "  --plots DIR       write predicted-vs-actual scatter plots (SVG) here\n"
         "  --results-md FILE write the Markdown report (docs/results.md)\n"
         "  --cache FILE      cache the network outputs (keyed by model file hashes)\n"
         "  --skip-missing    exit 77 (skip) when the data or the GDN model is absent\n"

@@ -468,11 +468,11 @@ ReplayResults runReplay(const ReplayOptions& opt) {
       writeScatterPlot(path, title + suffix, actual, pred, prec);
       res.plots.push_back(path);
     };
-    if (with_cnn) plot("table1_cnn.png", "CNN regression: predicted vs actual", cnn_mu, {});
-    plot("table1_gdn.png", "GDN: predicted vs actual, coloured by predicted precision", gdn_mu, gdn_prec);
+    if (with_cnn) plot("table1_cnn.svg", "CNN regression: predicted vs actual", cnn_mu, {});
+    plot("table1_gdn.svg", "GDN: predicted vs actual, coloured by predicted precision", gdn_mu, gdn_prec);
     for (std::size_t r = 0; r < res.filter.size(); ++r) {
       char name[64];
-      std::snprintf(name, sizeof name, "table2_filter_sigma_%g.png", res.filter[r].sigma_psi);
+      std::snprintf(name, sizeof name, "table2_filter_sigma_%g.svg", res.filter[r].sigma_psi);
       char title[128];
       std::snprintf(title, sizeof title, "GDN + SE(3) Bayes filter, sigma_psi = %g: filtered vs actual",
                     res.filter[r].sigma_psi);

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "lieservo_sim/plot.hpp"
+#include "lieservo_sim/csv_log.hpp"
 #include "lieservo_sim/tasks.hpp"
 #ifdef LIESERVO_DEMO_WITH_REAL_OBSERVATIONS
 #include "lieservo_sim/real_observation.hpp"

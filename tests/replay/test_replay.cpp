@@ -10,13 +10,12 @@
 #include <iterator>
 #include <string>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include <lieservo/sampling/random.hpp>
 #include "lieservo/estimation/concentrated_gaussian.hpp"
 #include "file_test_util.hpp"
 #include "plots.hpp"
 #include "replay.hpp"
+#include "svg_test_util.hpp"
 
 using namespace lieservo;
 using namespace lieservo::replay;
@@ -34,22 +33,13 @@ std::string tinyModelsDir(const char* name) {
   return models;
 }
 
-/// Marker pixels in each of a scatter plot's six panels: saturated colours (max − min channel
-/// > 60) strictly inside the panel's frame. −1 when the image cannot be read.
-std::array<int, 6> markerPixels(const std::string& png) {
-  std::array<int, 6> n{};
-  const cv::Mat img = cv::imread(png, cv::IMREAD_COLOR);
-  if (img.empty()) return {-1, -1, -1, -1, -1, -1};
-  for (int c = 0; c < 6; ++c) {
-    const PanelBox b = scatterPanelBox(c);
-    for (int y = b.y + 1; y < b.y + b.height; ++y)
-      for (int x = b.x + 1; x < b.x + b.width; ++x) {
-        const cv::Vec3b p = img.at<cv::Vec3b>(y, x);
-        const int hi = std::max({p[0], p[1], p[2]}), lo = std::min({p[0], p[1], p[2]});
-        if (hi - lo > 60) ++n[static_cast<std::size_t>(c)];
-      }
-  }
-  return n;
+/// Whether an SVG colour "#rrggbb" is saturated (max − min channel > 60): the markers' colours;
+/// frame, grid, labels and the diagonal are grey or black.
+bool saturated(const std::string& colour) {
+  if (colour.size() != 7 || colour[0] != '#') return false;
+  const int r = std::stoi(colour.substr(1, 2), nullptr, 16), g = std::stoi(colour.substr(3, 2), nullptr, 16),
+            b = std::stoi(colour.substr(5, 2), nullptr, 16);
+  return std::max({r, g, b}) - std::min({r, g, b}) > 60;
 }
 
 }  // namespace
@@ -72,19 +62,39 @@ TEST_CASE("replay: every scatter-plot panel shows its data, an empty plot shows 
     predicted.push_back(p);
     precision.push_back(q);
   }
-  writeScatterPlot(dir + "/coloured.png", "coloured", actual, predicted, precision);
-  writeScatterPlot(dir + "/plain.png", "plain", actual, predicted, {});
-  writeScatterPlot(dir + "/empty.png", "empty", {}, {}, {});
-  // A marker is a filled circle of radius 2 (about 13 px); overlaps allowed, at least 100 px.
-  for (const char* name : {"coloured.png", "plain.png"}) {
-    const auto n = markerPixels(dir + "/" + name);
-    for (int c = 0; c < 6; ++c) {
+  writeScatterPlot(dir + "/coloured.svg", "coloured", actual, predicted, precision);
+  writeScatterPlot(dir + "/plain.svg", "plain", actual, predicted, {});
+  writeScatterPlot(dir + "/empty.svg", "empty", {}, {}, {});
+  // Every point is a saturated marker in its panel, at least 45 of the 50 inside the frame (the
+  // axes span the actual values plus 5 %, so a prediction may fall just outside and be clipped);
+  // nothing else in a panel is saturated.
+  for (const char* name : {"coloured.svg", "plain.svg"}) {
+    const auto ps = svg_test::panels(svg_test::slurp(dir + "/" + name));
+    REQUIRE(ps.size() == 6);
+    for (std::size_t c = 0; c < 6; ++c) {
       INFO(name << " panel " << c);
-      CHECK(n[static_cast<std::size_t>(c)] >= 100);
+      CHECK(ps[c].circles.size() == 50);
+      int inside = 0;
+      for (const auto& m : ps[c].circles) {
+        CHECK(saturated(m.fill));
+        inside += ps[c].inside(m.x, m.y);
+      }
+      CHECK(inside >= 45);
+      for (const auto& l : ps[c].lines) CHECK_FALSE(saturated(l.colour));
     }
   }
-  const auto none = markerPixels(dir + "/empty.png");
-  for (int c = 0; c < 6; ++c) CHECK(none[static_cast<std::size_t>(c)] == 0);
+  // Coloured by precision: the most precise point is drawn last, in red.
+  const auto coloured = svg_test::panels(svg_test::slurp(dir + "/coloured.svg"));
+  for (std::size_t c = 0; c < 6; ++c) {
+    const std::string last = coloured[c].circles.back().fill;
+    CHECK(std::stoi(last.substr(1, 2), nullptr, 16) > 100);
+    CHECK(std::stoi(last.substr(3, 2), nullptr, 16) < 60);
+  }
+  const auto none = svg_test::panels(svg_test::slurp(dir + "/empty.svg"));
+  REQUIRE(none.size() == 6);
+  for (const auto& p : none) CHECK(p.circles.empty());
+  // An unwritable path is an error.
+  CHECK_THROWS_AS(writeScatterPlot(dir + "/no_such_dir/x.svg", "x", actual, predicted, {}), std::runtime_error);
 }
 
 TEST_CASE("replay: labels match the Python reference (examples/gdn/labels_reference.csv)", "[replay]") {
@@ -214,10 +224,11 @@ TEST_CASE("replay: end to end on real images with the tiny test models", "[repla
   CHECK(r.plots.size() == 6);
   for (const auto& p : r.plots) {
     // Every panel of every figure the replay writes holds its 40 points.
-    const auto n = markerPixels(p);
-    for (int c = 0; c < 6; ++c) {
+    const auto ps = svg_test::panels(svg_test::slurp(p));
+    REQUIRE(ps.size() == 6);
+    for (std::size_t c = 0; c < 6; ++c) {
       INFO(p << " panel " << c);
-      CHECK(n[static_cast<std::size_t>(c)] >= 100);
+      CHECK(ps[c].circles.size() == 40);
     }
   }
   // The tiny card lists no data: the report says so and does not call the split "validation".

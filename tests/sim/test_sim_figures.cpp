@@ -6,71 +6,20 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "lieservo_sim/tasks.hpp"
+#include "svg_test_util.hpp"
 
 using namespace lieservo::sim;
 
 namespace {
 
-struct Polyline {
-  std::string colour;
-  std::vector<Vec2> pts;
-};
-struct Panel {
-  double x = 0, y = 0, size = 0;
-  std::vector<Polyline> lines;
-};
-
-std::string slurp(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-// The value of attribute `name` in the element text `e` ("" when absent).
-std::string attribute(const std::string& e, const std::string& name) {
-  const std::string key = " " + name + "=\"";
-  const auto i = e.find(key);
-  if (i == std::string::npos) return "";
-  const auto j = e.find('"', i + key.size());
-  return e.substr(i + key.size(), j - i - key.size());
-}
-
-// The panels of an SVG written by SvgFigure: one <g> each, opened by its frame <rect>.
-// (Parsed with find, not std::regex: libstdc++'s regex recurses per character and overflows
-// the stack on long polylines.)
-std::vector<Panel> panels(const std::string& svg) {
-  std::vector<Panel> out;
-  for (auto g = svg.find("<g>"); g != std::string::npos; g = svg.find("<g>", g + 3)) {
-    const auto end = svg.find("</g>", g);
-    const std::string body = svg.substr(g, end - g);
-    const auto rect_end = body.find("/>");
-    const std::string rect = body.substr(0, rect_end);
-    Panel p;
-    p.x = std::stod(attribute(rect, "x")), p.y = std::stod(attribute(rect, "y"));
-    p.size = std::stod(attribute(rect, "width"));
-    for (auto l = body.find("<polyline"); l != std::string::npos; l = body.find("<polyline", l + 9)) {
-      const std::string e = body.substr(l, body.find("/>", l) - l);
-      Polyline pl;
-      pl.colour = attribute(e, "stroke");
-      std::istringstream pts(attribute(e, "points"));
-      std::string xy;
-      while (pts >> xy) {
-        const auto comma = xy.find(',');
-        pl.pts.emplace_back(std::stod(xy.substr(0, comma)), std::stod(xy.substr(comma + 1)));
-      }
-      p.lines.push_back(pl);
-    }
-    out.push_back(p);
-  }
-  return out;
-}
+using svg_test::Panel;
+using svg_test::panels;
+using svg_test::Polyline;
+using svg_test::slurp;
 
 void checkFigure(const std::string& path, std::size_t expected_panels) {
   INFO(path);
@@ -84,7 +33,8 @@ void checkFigure(const std::string& path, std::size_t expected_panels) {
     for (const Polyline& l : p.lines) {
       if (l.pts.size() < 2) continue;
       double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
-      for (const Vec2& q : l.pts) {
+      for (const auto& pt : l.pts) {
+        const Vec2 q(pt.first, pt.second);
         CHECK(q.x() >= p.x - 1);
         CHECK(q.x() <= p.x + p.size + 1);
         CHECK(q.y() >= p.y - 1);
@@ -127,7 +77,7 @@ TEST_CASE("figures: tracking and following plots show their data; the dome has e
   for (const Polyline& l : dome[0].lines) {
     if (l.colour == "#888") continue;
     REQUIRE(l.pts.size() >= 2);
-    const Vec2 d = l.pts.back() - l.pts.front();
+    const Vec2 d(l.pts.back().first - l.pts.front().first, l.pts.back().second - l.pts.front().second);
     CHECK(d.norm() >= 0.05 * dome[0].size);
     headings.push_back(std::atan2(-d.y(), d.x()));
   }

@@ -8,12 +8,20 @@
 #include <lieservo/estimation/bayes_filter.hpp>
 #include <lieservo/estimation/concentrated_gaussian.hpp>
 
+#include <lieservo_plot/svg_figure.hpp>
+
 #include "lieservo_sim/contact_model.hpp"
-#include "lieservo_sim/observation_model.hpp"
+#include "lieservo_sim/csv_log.hpp"
 #include "lieservo_sim/mujoco_world.hpp"
-#include "lieservo_sim/plot.hpp"
+#include "lieservo_sim/observation_model.hpp"
 #include "lieservo_sim/sensor_arm.hpp"
 #include "lieservo_sim/tasks.hpp"
+
+namespace lieservo::sim {
+// The tasks draw their figures with the examples' SVG figures.
+using plot::SvgFigure;
+using plot::SvgPanel;
+}  // namespace lieservo::sim
 
 namespace lieservo::sim::detail {
 
