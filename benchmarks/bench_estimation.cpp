@@ -1,6 +1,7 @@
 // benchmarks/bench_estimation.cpp — estimation and control: two-factor fusion
 // (Algorithm 3, alg:se3_data_fusion) with 1–10 iterations under each Jacobian policy, one full filter step
-// (Algorithm 2, alg:se3_bayes_filter: predict + correct, 5 fusion iterations), one controller step
+// (Algorithm 2, alg:se3_bayes_filter: predict + correct, 5 fusion iterations; square-root and
+// information form), one controller step
 // (TactileServoController, PushingController) and the whole estimate-and-control cycle
 // (fromTangentGaussian + filter step + servo step), SE(3), float and double.
 #include <benchmark/benchmark.h>
@@ -15,11 +16,12 @@ using lieservo_bench::FilterInputs;
 using lieservo_bench::kRing;
 
 // ---- fusion: argument = number of fixed iterations (tolerance 0: real-time mode) ------------
-template <class Policy, class G>
+template <class Policy, class G, lieservo::FusionForm Form = lieservo::FusionForm::square_root>
 void BM_fuse(benchmark::State& state) {
   const auto& in = FilterInputs<G>::get();
   lieservo::FusionOptions<typename G::Scalar> opt;
   opt.max_iterations = static_cast<int>(state.range(0));
+  opt.form = Form;
   lieservo::FusionResult<G> r;
   std::size_t i = 0;
   for (auto _ : state) {
@@ -39,12 +41,17 @@ void BM_fuse(benchmark::State& state) {
 
 LIESERVO_FUSE_BENCHMARKS(lieservo::SE3<double>);
 LIESERVO_FUSE_BENCHMARKS(lieservo::SE3<float>);
+// The information form (FusionForm::information), paper policy.
+BENCHMARK_TEMPLATE(BM_fuse, lieservo::SeriesJacobian<2>, lieservo::SE3<double>, lieservo::FusionForm::information)
+    ->DenseRange(1, 10);
 
 // ---- one filter step: predict + correct (5 iterations, the paper's settings) ---------------
-template <class G, class Policy>
+template <class G, class Policy, lieservo::FusionForm Form = lieservo::FusionForm::square_root>
 void BM_FilterStep(benchmark::State& state) {
   const auto& in = FilterInputs<G>::get();
-  lieservo::DiscriminativeBayesFilter<G, Policy> filter;
+  typename lieservo::DiscriminativeBayesFilter<G, Policy>::Options options;
+  options.fusion.form = Form;
+  lieservo::DiscriminativeBayesFilter<G, Policy> filter(options);
   filter.reset();
   (void)filter.step(in.sensor[0], in.obs[0]);  // initialisation
   std::size_t i = 1;
@@ -63,6 +70,7 @@ void BM_FilterStep(benchmark::State& state) {
 }
 BENCHMARK_TEMPLATE(BM_FilterStep, lieservo::SE3<double>, lieservo::PaperJacobian);
 BENCHMARK_TEMPLATE(BM_FilterStep, lieservo::SE3<double>, lieservo::ClosedFormJacobian);
+BENCHMARK_TEMPLATE(BM_FilterStep, lieservo::SE3<double>, lieservo::PaperJacobian, lieservo::FusionForm::information);
 BENCHMARK_TEMPLATE(BM_FilterStep, lieservo::SE3<float>, lieservo::PaperJacobian);
 BENCHMARK_TEMPLATE(BM_FilterStep, lieservo::SE3<float>, lieservo::ClosedFormJacobian);
 

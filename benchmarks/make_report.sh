@@ -72,7 +72,8 @@ for r in (csv.DictReader(lines[start:]) if start is not None else []):
         cpp_filter = float(r["real_time"])
 cpp_fuse = None
 for r in csv.DictReader(open(report)):
-    if r["scalar"] == "double" and r["policy"] == "series" and r["order"] == "2" and r["iterations"] == "5":
+    if (r["scalar"] == "double" and r["policy"] == "series" and r["order"] == "2" and r["iterations"] == "5"
+            and r.get("form", "square_root") == "square_root"):
         cpp_fuse = float(r["ns_median"])
 np_t = {}
 for l in open(numpy_txt):

@@ -14,7 +14,14 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 
 def label(r):
-    return "closed form" if r["policy"] == "closed" else f"series N={r['order']}"
+    name = "closed form" if r["policy"] == "closed" else f"series N={r['order']}"
+    return name + (", information form" if r.get("form") == "information" else "")
+
+
+def is_paper(r):
+    """The paper's configuration: series N = 2, 5 iterations, the default (square-root) form."""
+    return (r["policy"] == "series" and r["order"] == "2" and r["iterations"] == "5"
+            and r.get("form", "square_root") == "square_root")
 
 
 def pareto(rows, key):
@@ -46,7 +53,7 @@ def main():
                      "hard: rot. (rad) | hard: trans. (mm) | hard: cov. | hard fails | Pareto |")
         lines.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|:---:|")
         for i, r in enumerate(rs):
-            paper = " (paper)" if r["policy"] == "series" and r["order"] == "2" and r["iterations"] == "5" else ""
+            paper = " (paper)" if is_paper(r) else ""
             lines.append(
                 f"| {label(r)}{paper} | {r['iterations']} | {float(r['ns_median']):.0f} | {float(r[key]):.2e} | "
                 f"{float(r['real_trans_mean_mm']):.2e} | {float(r['real_cov_mean_rel']):.2e} | "
@@ -58,12 +65,14 @@ def main():
         f.write("\n".join(lines) + "\n")
 
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.8), sharey=True)
-    markers = {"series1": "v", "series2": "o", "series3": "s", "series4": "D", "closed-1": "*"}
+    markers = {"series1": "v", "series2": "o", "series3": "s", "series4": "D", "closed-1": "*",
+               "series2information": "P", "closed-1information": "X"}
     for ax, scalar in zip(axes, ("double", "float")):
         rs = [r for r in rows if r["scalar"] == scalar]
         front = pareto(rs, key)
-        for pol in ("series1", "series2", "series3", "series4", "closed-1"):
-            sel = [r for r in rs if r["policy"] + r["order"] == pol]
+        for pol in markers:
+            sel = [r for r in rs
+                   if r["policy"] + r["order"] + ("information" if r.get("form") == "information" else "") == pol]
             if not sel:
                 continue
             xs = [float(r["ns_median"]) for r in sel]
@@ -73,7 +82,7 @@ def main():
                 ax.annotate(r["iterations"], (x, y), textcoords="offset points", xytext=(4, 3), fontsize=7)
         fr = sorted((float(rs[i]["ns_median"]), max(float(rs[i][key]), 1e-17)) for i in front)
         ax.plot([p[0] for p in fr], [p[1] for p in fr], "k--", lw=0.8, label="Pareto front")
-        paper = [r for r in rs if r["policy"] == "series" and r["order"] == "2" and r["iterations"] == "5"]
+        paper = [r for r in rs if is_paper(r)]
         if paper:
             ax.plot(float(paper[0]["ns_median"]), float(paper[0][key]), "ro", mfc="none", ms=12,
                     label="paper (N=2, 5 it.)")

@@ -145,7 +145,7 @@ Errors errorsOf(const lieservo::FusionResult<SE3<Scalar>>& res, const Reference&
 }
 
 struct Row {
-  std::string scalar, policy;
+  std::string scalar, policy, form = "square_root";
   int order = 0, iterations = 0;
   double ns = 0;
   Errors real_mean, real_max, hard_max;
@@ -157,7 +157,8 @@ struct Row {
 template <class Policy, class Scalar>
 Row evaluate(const char* scalar_name, const char* policy_name, int iterations, const std::vector<Case>& real,
              const std::vector<Reference>& real_ref, const std::vector<Case>& hard,
-             const std::vector<Reference>& hard_ref) {
+             const std::vector<Reference>& hard_ref,
+             lieservo::FusionForm form = lieservo::FusionForm::square_root) {
   using G = SE3<Scalar>;
   Row row;
   row.scalar = scalar_name;
@@ -166,6 +167,8 @@ Row evaluate(const char* scalar_name, const char* policy_name, int iterations, c
   row.iterations = iterations;
   lieservo::FusionOptions<Scalar> opt;
   opt.max_iterations = iterations;
+  opt.form = form;
+  if (form == lieservo::FusionForm::information) row.form = "information";
   // Factors prepared once (the timing covers fuse() only).
   std::vector<ConcentratedGaussian<G>> f1(real.size()), f2(real.size());
   std::vector<char> good(real.size());
@@ -232,14 +235,14 @@ Row evaluate(const char* scalar_name, const char* policy_name, int iterations, c
 const char* kHeader =
     "scalar,policy,order,iterations,ns_median,real_rot_mean_rad,real_trans_mean_mm,real_cov_mean_rel,"
     "real_rot_max_rad,real_trans_max_mm,real_cov_max_rel,real_failures,hard_rot_max_rad,hard_trans_max_mm,"
-    "hard_cov_max_rel,hard_failures,hard_cases,hard_fail_near_pi,hard_fail_extreme_sigma,hard_fail_tiny_angle";
+    "hard_cov_max_rel,hard_failures,hard_cases,hard_fail_near_pi,hard_fail_extreme_sigma,hard_fail_tiny_angle,form";
 
 void printRow(std::FILE* out, const Row& r) {
-  std::fprintf(out, "%s,%s,%d,%d,%.2f,%.3e,%.3e,%.3e,%.3e,%.3e,%.3e,%d,%.3e,%.3e,%.3e,%d,%d,%d,%d,%d\n",
+  std::fprintf(out, "%s,%s,%d,%d,%.2f,%.3e,%.3e,%.3e,%.3e,%.3e,%.3e,%d,%.3e,%.3e,%.3e,%d,%d,%d,%d,%d,%s\n",
                r.scalar.c_str(), r.policy.c_str(), r.order, r.iterations, r.ns, r.real_mean.rot, r.real_mean.trans,
                r.real_mean.cov, r.real_max.rot, r.real_max.trans, r.real_max.cov, r.real_fail, r.hard_max.rot,
                r.hard_max.trans, r.hard_max.cov, r.hard_fail, r.hard_n, r.hard_fail_cat[0], r.hard_fail_cat[1],
-               r.hard_fail_cat[2]);
+               r.hard_fail_cat[2], r.form.c_str());
 }
 
 template <class Scalar>
@@ -251,6 +254,10 @@ void allPolicies(std::vector<Row>& rows, const char* sname, const std::vector<Ca
     rows.push_back(evaluate<lieservo::SeriesJacobian<3>, Scalar>(sname, "series", it, real, rr, hard, hr));
     rows.push_back(evaluate<lieservo::SeriesJacobian<4>, Scalar>(sname, "series", it, real, rr, hard, hr));
     rows.push_back(evaluate<lieservo::ClosedFormJacobian, Scalar>(sname, "closed", it, real, rr, hard, hr));
+    // The information form beside the default, for the paper's policy and the closed form.
+    const auto info = lieservo::FusionForm::information;
+    rows.push_back(evaluate<lieservo::SeriesJacobian<2>, Scalar>(sname, "series", it, real, rr, hard, hr, info));
+    rows.push_back(evaluate<lieservo::ClosedFormJacobian, Scalar>(sname, "closed", it, real, rr, hard, hr, info));
   }
 }
 

@@ -379,6 +379,23 @@ def holdout_rows_per_session():
 
 
 @test
+def weight_decay_optimizer():
+    # 0: the paper's Adam without decay; > 0: AdamW with that decoupled decay; < 0 or NaN refused.
+    from train import make_optimizer
+    w = [torch.nn.Parameter(torch.ones(3))]
+    adam = make_optimizer(w, 1e-8, 0.0)
+    assert type(adam) is torch.optim.Adam and adam.param_groups[0]['weight_decay'] == 0
+    adamw = make_optimizer(w, 1e-8, 0.01)
+    assert type(adamw) is torch.optim.AdamW and adamw.param_groups[0]['weight_decay'] == 0.01
+    for bad in (-0.1, float('nan')):
+        try:
+            make_optimizer(w, 1e-8, bad)
+            assert False, bad
+        except SystemExit:
+            pass
+
+
+@test
 def diagnose_power_calibration_recovers_exponent():
     # Errors with std a*sigma^b around a network that claims sigma: the quantile regression
     # recovers (a, b); b = 1 is the constant factor of sigma_calibration_factors. The fitted

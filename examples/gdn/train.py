@@ -73,6 +73,17 @@ def holdout_indices(n: int, k: int, seed: int = HOLDOUT_SEEDS['train']) -> np.nd
     return np.sort(np.random.RandomState(seed).permutation(n)[:k])
 
 
+def make_optimizer(params, eps: float, weight_decay: float):
+    """Adam (the paper's), or AdamW when weight_decay > 0: decoupled weight decay, which shrinks
+    the weights by lr * weight_decay per step apart from the gradient. The learning rate is set
+    per step by the schedule."""
+    if not (weight_decay >= 0 and math.isfinite(weight_decay)):
+        raise SystemExit(f'--weight-decay {weight_decay}: must be finite and >= 0')
+    if weight_decay > 0:
+        return torch.optim.AdamW(params, lr=1e-5, eps=eps, weight_decay=weight_decay)
+    return torch.optim.Adam(params, lr=1e-5, eps=eps)
+
+
 def parse_deadline(s):
     if not s:
         return None
@@ -175,12 +186,7 @@ def main(argv=None):
     if args.init == 'keras':
         keras_init_(model)
     n_par = sum(p.numel() for p in model.parameters())
-    if args.weight_decay < 0:
-        raise SystemExit(f'--weight-decay {args.weight_decay}: must be >= 0')
-    if args.weight_decay > 0:   # decoupled: shrinks weights by lr * wd per step, apart from the gradient
-        opt = torch.optim.AdamW(model.parameters(), lr=1e-5, eps=args.adam_eps, weight_decay=args.weight_decay)
-    else:
-        opt = torch.optim.Adam(model.parameters(), lr=1e-5, eps=args.adam_eps)
+    opt = make_optimizer(model.parameters(), args.adam_eps, args.weight_decay)
     rng = np.random.RandomState(args.seed)
     aug = AUGMENT_PRESETS[args.augment]
     aug_gen = torch.Generator().manual_seed(args.seed + 1)

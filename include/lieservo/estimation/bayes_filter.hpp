@@ -89,9 +89,7 @@ class DiscriminativeBayesFilter {
   /// ok, or invalid_argument (fusion options out of range, gate_probability ∉ (0,1)),
   /// non_finite_input / not_spd (process noise).
   static Status validate(const Options& o) noexcept {
-    if (o.fusion.max_iterations < 1 || !std::isfinite(o.fusion.tolerance) ||
-        o.fusion.tolerance < Scalar(0))
-      return Status::invalid_argument;
+    if (!validFusionOptions(o.fusion)) return Status::invalid_argument;
     if (!(o.gate_probability > Scalar(0) && o.gate_probability < Scalar(1)))
       return Status::invalid_argument;
     return detail::checkPsd(o.process_noise);

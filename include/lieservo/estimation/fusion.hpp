@@ -20,6 +20,11 @@
 // [1e-12, 1e12] stay representable), is allocation-free (fixed-size storage for up to
 // kMaxFusionFactors factors) and the result is symmetrised and checked to be SPD (a
 // rounding-level loss of definiteness is repaired by a relative diagonal load of 1024 eps).
+//
+// FusionForm::information instead forms the information matrix H = Σ_i A_iᵀA_i and its
+// Cholesky factor each iteration: cheaper than the Householder reduction, but H's condition
+// number is the square of R's, so it is for well-conditioned factors only. Its speed and its
+// accuracy on the hard set are measured beside the default's in docs/performance.md.
 #pragma once
 
 #include <cmath>
@@ -35,6 +40,12 @@
 
 namespace lieservo {
 
+/// How fuse() solves each iteration's normal equations (see the file comment).
+enum class FusionForm {
+  square_root,  ///< default: whitened rows reduced by Householder; condition number not squared
+  information,  ///< H = Σ A_iᵀA_i formed and Cholesky-factorised: faster, squares the condition number
+};
+
 /// Iteration control of fuse().
 template <class Scalar>
 struct FusionOptions {
@@ -44,7 +55,17 @@ struct FusionOptions {
   /// If > 0: stop as soon as the step norm ‖μ‖₂ of an update falls below it; if that never
   /// happens within max_iterations, fuse() returns Status::not_converged. Must be finite, ≥ 0.
   Scalar tolerance = Scalar(0);
+  /// Square-root (default) or information form of each iteration's solve.
+  FusionForm form = FusionForm::square_root;
 };
+
+/// Whether `o` is a valid FusionOptions: max_iterations ≥ 1, tolerance finite and ≥ 0, form one
+/// of the enumerators.
+template <class Scalar>
+bool validFusionOptions(const FusionOptions<Scalar>& o) noexcept {
+  return o.max_iterations >= 1 && std::isfinite(o.tolerance) && o.tolerance >= Scalar(0) &&
+         (o.form == FusionForm::square_root || o.form == FusionForm::information);
+}
 
 /// The outcome of fuse().
 template <class G>
@@ -207,13 +228,22 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
 
   G X = means[0];  // operating point X̄ ← X̄_1
   Scalar max_sep(0);
+  const bool information_form = options.form == FusionForm::information;
   SqrtInformation<G> info;
+  Jacobian H = Jacobian::Zero();  // information form: H = Σ A_iᵀA_i, g = Σ A_iᵀb_i
+  Tangent g = Tangent::Zero();
   Jacobian R = Jacobian::Identity();
+  Tangent c = Tangent::Zero();
   Scalar step(0);
   int it = 0;
   bool converged = false;
   while (it < options.max_iterations) {
-    info.reset();
+    if (information_form) {
+      H.setZero();
+      g.setZero();
+    } else {
+      info.reset();
+    }
     for (int i = 0; i < count; ++i) {
       Jacobian Jinv;
       const Tangent xi = Policy::logAndInverse(X * inv_mean[i], Jinv);  // ξ_i, J(ξ_i)⁻¹
@@ -223,16 +253,32 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
         if (i > 0) max_sep = std::max(max_sep, rotationAngle<G>(xi));
       }
       // A_i = L_i⁻¹ J_i⁻¹ (so A_iᵀA_i = J_i⁻ᵀ Σ_i⁻¹ J_i⁻¹), b_i = L_i⁻¹ ξ_i
-      info.add(W[i].lazyProduct(Jinv), W[i] * xi);
+      if (information_form) {
+        const Jacobian A = W[i].lazyProduct(Jinv);
+        H.noalias() += A.transpose() * A;
+        g.noalias() += A.transpose() * (W[i] * xi);
+      } else {
+        info.add(W[i].lazyProduct(Jinv), W[i] * xi);
+      }
     }
     if (it == 0 && max_sep > pi<Scalar>() - cutLocusMargin<Scalar>())
       return Status::invalid_argument;
-    info.compress();
-    R = info.R();
+    if (information_form) {
+      // H = L_H L_Hᵀ, so R = L_Hᵀ (RᵀR = H) and c = R⁻ᵀ g = L_H⁻¹ g, as the square-root form's.
+      Jacobian LH;
+      if (choleskyChecked(H, LH) != Status::ok) return Status::numerical_failure;
+      R = LH.transpose();
+      c = g;
+      lowerSolveInPlace(LH, c);
+    } else {
+      info.compress();
+      R = info.R();
+      c = info.c();
+    }
     for (int k = 0; k < D; ++k)
       if (!(std::abs(R(k, k)) > Scalar(0))) return Status::numerical_failure;
     // μ = −Σ Σ_i J_i⁻ᵀ Σ_i⁻¹ ξ_i = −(RᵀR)⁻¹ Rᵀc = −R⁻¹ c
-    Tangent mu = -info.c();
+    Tangent mu = -c;
     upperSolveInPlace(R, mu);
     if (!allFinite(mu)) return Status::numerical_failure;
     X = G::exp(mu) * X;  // eq. 54 (eqn:se3_normalised_prod_update)
@@ -275,11 +321,8 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
 template <class Policy = PaperJacobian, class G>
 Status fuse(const ConcentratedGaussian<G>* factors, int count,
             const FusionOptions<typename G::Scalar>& options, FusionResult<G>& result) noexcept {
-  using Scalar = typename G::Scalar;
   if (factors == nullptr || count < 1 || count > kMaxFusionFactors) return Status::invalid_argument;
-  if (options.max_iterations < 1 || !std::isfinite(options.tolerance) ||
-      options.tolerance < Scalar(0))
-    return Status::invalid_argument;
+  if (!validFusionOptions(options)) return Status::invalid_argument;
   // Validate each factor and factorise its covariance once (Σ_i = L_i L_iᵀ).
   typename G::Jacobian L[kMaxFusionFactors];
   G means[kMaxFusionFactors];
