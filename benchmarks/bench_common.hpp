@@ -16,6 +16,9 @@
 
 namespace lieservo_bench {
 
+using lieservo::sampling::standardNormal;
+using lieservo::sampling::uniform;
+
 inline constexpr std::size_t kRing = 256;  // power of two
 inline constexpr double kPi = lieservo::pi<double>();
 inline constexpr double kDeg = kPi / 180.0;
@@ -25,15 +28,12 @@ inline constexpr double kDeg = kPi / 180.0;
 template <class G, class Rng>
 typename G::Tangent randomTangent(Rng& rng, double t_max, double rot_max) {
   using Scalar = typename G::Scalar;
-  const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -1.0, 1.0); };
-  const auto a = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0.0, 1.0); };
-  const auto n = [](auto& gen) { return lieservo::sampling::standardNormal(gen); };
   typename G::Tangent xi;
   constexpr int R = G::Dim * (G::Dim - 1) / 2;  // rotational DoF (the tail of ξ)
-  for (int i = 0; i < G::DoF - R; ++i) xi(i) = Scalar(t_max * u(rng));
-  double axis[3] = {n(rng), n(rng), n(rng)};
+  for (int i = 0; i < G::DoF - R; ++i) xi(i) = Scalar(t_max * uniform(rng, -1.0, 1.0));
+  double axis[3] = {standardNormal(rng), standardNormal(rng), standardNormal(rng)};
   const double an = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
-  const double angle = rot_max * a(rng);
+  const double angle = rot_max * uniform(rng, 0.0, 1.0);
   for (int i = 0; i < R; ++i) xi(G::DoF - R + i) = Scalar(R == 1 ? angle : angle * axis[i] / an);
   return xi;
 }
@@ -42,11 +42,9 @@ typename G::Tangent randomTangent(Rng& rng, double t_max, double rot_max) {
 template <class G, class Rng>
 typename G::Tangent randomSigma(Rng& rng) {
   using Scalar = typename G::Scalar;
-  const auto st = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0.1, 1.0); };
-  const auto sr = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0.5 * kDeg, 2.0 * kDeg); };
   constexpr int R = G::Dim * (G::Dim - 1) / 2;
   typename G::Tangent s;
-  for (int i = 0; i < G::DoF; ++i) s(i) = Scalar(i < G::DoF - R ? st(rng) : sr(rng));
+  for (int i = 0; i < G::DoF; ++i) s(i) = Scalar(i < G::DoF - R ? uniform(rng, 0.1, 1.0) : uniform(rng, 0.5 * kDeg, 2.0 * kDeg));
   return s;
 }
 
@@ -58,13 +56,12 @@ struct GroupInputs {
   std::vector<typename G::Point> p;      // points
   GroupInputs() {
     lieservo::sampling::Rng rng(20240601);
-    const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -5.0, 5.0); };
     for (std::size_t i = 0; i < kRing; ++i) {
       xi.push_back(randomTangent<G>(rng, 5.0, 1.0));
       X.push_back(G::exp(randomTangent<G>(rng, 5.0, 25 * kDeg)));
       Y.push_back(G::exp(randomTangent<G>(rng, 5.0, 25 * kDeg)));
       typename G::Point q;
-      for (int k = 0; k < q.size(); ++k) q(k) = typename G::Scalar(u(rng));
+      for (int k = 0; k < q.size(); ++k) q(k) = typename G::Scalar(uniform(rng, -5.0, 5.0));
       p.push_back(q);
     }
   }

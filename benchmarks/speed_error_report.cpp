@@ -33,6 +33,8 @@
 
 namespace {
 
+using lieservo::sampling::standardNormal;
+using lieservo::sampling::uniform;
 using lieservo::ConcentratedGaussian;
 using lieservo::SE3;
 using lieservo::SO3;
@@ -54,23 +56,18 @@ struct Reference {
 
 Eigen::Matrix<double, 6, 1> randomTangent(lieservo::sampling::Rng& rng, double t_max, double rot_lo, double rot_hi,
                                           bool log_angle = false) {
-  const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -1.0, 1.0); };
-  const auto a = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0.0, 1.0); };
-  const auto n = [](auto& gen) { return lieservo::sampling::standardNormal(gen); };
   Eigen::Matrix<double, 6, 1> xi;
-  for (int i = 0; i < 3; ++i) xi(i) = t_max * u(rng);
-  Eigen::Vector3d axis(n(rng), n(rng), n(rng));
+  for (int i = 0; i < 3; ++i) xi(i) = t_max * uniform(rng, -1.0, 1.0);
+  Eigen::Vector3d axis(standardNormal(rng), standardNormal(rng), standardNormal(rng));
   axis.normalize();
-  const double ang = log_angle ? std::exp(std::log(rot_lo) + a(rng) * (std::log(rot_hi) - std::log(rot_lo)))
-                               : rot_lo + a(rng) * (rot_hi - rot_lo);
+  const double ang = log_angle ? std::exp(std::log(rot_lo) + uniform(rng, 0.0, 1.0) * (std::log(rot_hi) - std::log(rot_lo)))
+                               : rot_lo + uniform(rng, 0.0, 1.0) * (rot_hi - rot_lo);
   xi.tail<3>() = ang * axis;
   return xi;
 }
 Eigen::Matrix<double, 6, 1> gdnSigma(lieservo::sampling::Rng& rng) {
-  const auto st = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0.1, 1.0); };
-  const auto sr = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0.5 * kDeg, 2.0 * kDeg); };
   Eigen::Matrix<double, 6, 1> s;
-  for (int i = 0; i < 6; ++i) s(i) = i < 3 ? st(rng) : sr(rng);
+  for (int i = 0; i < 6; ++i) s(i) = i < 3 ? uniform(rng, 0.1, 1.0) : uniform(rng, 0.5 * kDeg, 2.0 * kDeg);
   return s;
 }
 
@@ -86,7 +83,6 @@ std::vector<Case> realisticCases(int n) {
 std::vector<Case> hardCases(int n_each) {
   lieservo::sampling::Rng rng(987);
   std::vector<Case> v;
-  const auto a = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0.0, 1.0); };
   for (int i = 0; i < n_each; ++i) {  // relative rotation π − δ: mu2's rotation = mu1's axis, angle + (π − δ)
     Case c{randomTangent(rng, 5.0, 0, 10 * kDeg), {}, gdnSigma(rng), gdnSigma(rng)};
     const SE3<double> X1 = SE3<double>::exp(c.mu1);
@@ -97,8 +93,8 @@ std::vector<Case> hardCases(int n_each) {
   for (int i = 0; i < n_each; ++i) {  // σ spanning 1e-6 … 1e6
     Case c{randomTangent(rng, 5.0, 0, 25 * kDeg), randomTangent(rng, 5.0, 0, 25 * kDeg), {}, {}};
     for (int k = 0; k < 6; ++k) {
-      c.s1(k) = std::pow(10.0, -6.0 + 12.0 * a(rng));
-      c.s2(k) = std::pow(10.0, -6.0 + 12.0 * a(rng));
+      c.s1(k) = std::pow(10.0, -6.0 + 12.0 * uniform(rng, 0.0, 1.0));
+      c.s2(k) = std::pow(10.0, -6.0 + 12.0 * uniform(rng, 0.0, 1.0));
     }
     v.push_back(c);
   }

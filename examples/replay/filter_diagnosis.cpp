@@ -191,9 +191,8 @@ int main(int argc, char** argv) {
   }
   if (synthetic_seed >= 0) {
     lieservo::sampling::Rng g(static_cast<std::uint64_t>(synthetic_seed));
-    const auto n = [](auto& gen) { return lieservo::sampling::standardNormal(gen); };
     for (Row& r : rows)
-      for (int j = 0; j < 6; ++j) r.mu(j) = r.xi(j) + r.sigma(j) * n(g);
+      for (int j = 0; j < 6; ++j) r.mu(j) = r.xi(j) + r.sigma(j) * lieservo::sampling::standardNormal(g);
   }
 
   const BinMae base = unfilteredMae(rows);

@@ -225,7 +225,6 @@ FilterRun replayFilter(const std::vector<Sample>& samples, const std::vector<Con
   fo.fusion = fusion;
   DiscriminativeBayesFilter<SE3d> filter(fo);
   lieservo::sampling::Rng rng(seed);
-  const auto normal = [](auto& gen) { return lieservo::sampling::standardNormal(gen); };
   run.mu.resize(n);
   run.precision.resize(n);
   long iterations = 0, corrections = 0;
@@ -236,7 +235,7 @@ FilterRun replayFilter(const std::vector<Sample>& samples, const std::vector<Con
     } else {
       // T_k = exp(ψ_k^) X_k X_{k-1}^{-1}  (eq. 23, eqn:se3_filter_exp_state_trans_model)
       SE3d::Tangent psi;
-      for (int j = 0; j < 6; ++j) psi(j) = sd(j) * normal(rng);
+      for (int j = 0; j < 6; ++j) psi(j) = sd(j) * lieservo::sampling::standardNormal(rng);
       const SE3d T = SE3d::exp(psi) * X[k] * X[k - 1].inverse();
       s = filter.predict(T);
       if (s == Status::ok) s = filter.correct(obs[k]);

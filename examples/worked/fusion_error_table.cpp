@@ -33,14 +33,12 @@ using Jacobian = G::Jacobian;
 namespace {
 constexpr double kDeg = lieservo::pi<double>() / 180.0;
 
-Jacobian randomCovariance(lieservo::sampling::Rng& rng, const Tangent& sigma) {
-  const auto n01 = [](auto& gen) { return lieservo::sampling::standardNormal(gen); };
-  const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0.2, 1.8); };
+Jacobian randomCovariance(sampling::Rng& rng, const Tangent& sigma) {
   Jacobian A;
-  for (int i = 0; i < 36; ++i) A.data()[i] = n01(rng);
+  for (int i = 0; i < 36; ++i) A.data()[i] = sampling::standardNormal(rng);
   const Jacobian Q = Eigen::HouseholderQR<Jacobian>(A).householderQ();
   Tangent ev;
-  for (int i = 0; i < 6; ++i) ev[i] = u(rng);
+  for (int i = 0; i < 6; ++i) ev[i] = sampling::uniform(rng, 0.2, 1.8);
   Jacobian C = Q * ev.asDiagonal() * Q.transpose();
   const Tangent d = C.diagonal().cwiseSqrt().cwiseInverse();
   C = d.asDiagonal() * C * d.asDiagonal();
@@ -48,12 +46,11 @@ Jacobian randomCovariance(lieservo::sampling::Rng& rng, const Tangent& sigma) {
   return 0.5 * (S + S.transpose());
 }
 
-ConcentratedGaussian<G> randomFactor(lieservo::sampling::Rng& rng, const G& centre, double t_lo,
+ConcentratedGaussian<G> randomFactor(sampling::Rng& rng, const G& centre, double t_lo,
                                      double t_hi, double r_lo, double r_hi) {
-  const auto ut = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, t_lo, t_hi); };
-  const auto ur = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, r_lo * kDeg, r_hi * kDeg); };
   Tangent sigma;
-  sigma << ut(rng), ut(rng), ut(rng), ur(rng), ur(rng), ur(rng);
+  for (int i = 0; i < 6; ++i)
+    sigma[i] = i < 3 ? sampling::uniform(rng, t_lo, t_hi) : sampling::uniform(rng, r_lo * kDeg, r_hi * kDeg);
   ConcentratedGaussian<G> f;
   f.covariance = randomCovariance(rng, sigma);
   f.mean = sample(ConcentratedGaussian<G>(centre, f.covariance), rng);
@@ -82,13 +79,12 @@ bool measure(const ConcentratedGaussian<G>& a, const ConcentratedGaussian<G>& b,
 }
 
 bool table(const char* title, double t_lo, double t_hi, double r_lo, double r_hi, int pairs) {
-  lieservo::sampling::Rng rng(12345);
+  sampling::Rng rng(12345);
   const int iters[5] = {1, 2, 3, 5, 10};
   double me[5][5] = {}, ce[5][5] = {};
   for (int p = 0; p < pairs; ++p) {
-    const auto n01 = [](auto& gen) { return lieservo::sampling::standardNormal(gen); };
     Tangent c;
-    for (int i = 0; i < 6; ++i) c[i] = n01(rng);
+    for (int i = 0; i < 6; ++i) c[i] = sampling::standardNormal(rng);
     const G centre = G::exp(c);
     const auto a = randomFactor(rng, centre, t_lo, t_hi, r_lo, r_hi);
     const auto b = randomFactor(rng, centre, t_lo, t_hi, r_lo, r_hi);

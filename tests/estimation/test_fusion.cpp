@@ -90,15 +90,14 @@ TEST_CASE("triangular inverses and solves of the fusion's square-root form", "[e
   using M6 = Eigen::Matrix<double, 6, 6>;
   using V6 = Eigen::Matrix<double, 6, 1>;
   lieservo::sampling::Rng rng(20261124);
-  const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -1.0, 1.0); };
-  const auto e = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -6.0, 6.0); };
   double worst = 0.0, worst_solve = 0.0;
   for (int n = 0; n < 100000; ++n) {
     M6 L = M6::Zero();
     for (int i = 0; i < 6; ++i) {
-      const double d = std::pow(10.0, e(rng));
+      const double d = std::pow(10.0, lieservo::sampling::uniform(rng, -6.0, 6.0));
       L(i, i) = d;
-      for (int k = 0; k < i; ++k) L(i, k) = u(rng) * d;  // rows scaled alike: condition ~ the pivots'
+      // rows scaled alike: condition ~ the pivots'
+      for (int k = 0; k < i; ++k) L(i, k) = uniform(rng, -1.0, 1.0) * d;
     }
     const M6 W = detail::lowerTriangularInverse(L);
     const M6 R = L.transpose();
@@ -111,7 +110,7 @@ TEST_CASE("triangular inverses and solves of the fusion's square-root form", "[e
     const M6 EL = (L * W - M6::Identity()).cwiseAbs().cwiseQuotient(D + M6::Constant(1e-300));
     const M6 EU = (U * R - M6::Identity()).cwiseAbs().cwiseQuotient(DU + M6::Constant(1e-300));
     worst = std::max({worst, EL.maxCoeff(), EU.maxCoeff()});
-    V6 b = V6::NullaryExpr([&](Eigen::Index) { return u(rng); });
+    V6 b = V6::NullaryExpr([&](Eigen::Index) { return lieservo::sampling::uniform(rng, -1.0, 1.0); });
     V6 x = b, y = b;
     detail::lowerSolveInPlace(L, x);
     detail::upperSolveInPlace(R, y);

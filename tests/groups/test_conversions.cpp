@@ -7,6 +7,7 @@
 
 #include "group_properties.hpp"
 
+using lieservo::sampling::uniform;
 using lieservo::SE3;
 using lieservo::SO3;
 
@@ -16,9 +17,9 @@ TEMPLATE_TEST_CASE("Euler xyz: C = Rz(g) Ry(b) Rx(a) and round trip", "[core][co
   using V = typename G::Vector3;
   const double tol = 16 * lst::epsOf<S>();
   lieservo::sampling::Rng rng(1);
-  const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -1, 1); };
   for (int i = 0; i < 2000; ++i) {
-    const S a = S(lieservo::pi<double>() * u(rng)), b = S(lieservo::pi<double>() / 2 * u(rng)), g = S(lieservo::pi<double>() * u(rng));
+    const double pi = lieservo::pi<double>();
+    const S a = S(pi * uniform(rng, -1.0, 1.0)), b = S(pi / 2 * uniform(rng, -1.0, 1.0)), g = S(pi * uniform(rng, -1.0, 1.0));
     const typename G::Matrix ref = (Eigen::AngleAxis<S>(g, V::UnitZ()) * Eigen::AngleAxis<S>(b, V::UnitY()) *
                                     Eigen::AngleAxis<S>(a, V::UnitX()))
                                        .toRotationMatrix();

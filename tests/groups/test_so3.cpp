@@ -2,6 +2,7 @@
 // series inverse Jacobian, BCH, interpolation, checked construction, sampling.
 #include "group_properties.hpp"
 
+using lieservo::sampling::uniform;
 using lieservo::SO3;
 
 TEMPLATE_TEST_CASE("SO3 group axioms", "[core][so3]", float, double) { lst::checkAxioms<SO3<TestType>>(2000); }
@@ -118,14 +119,13 @@ TEMPLATE_TEST_CASE("SO3 log (and logWithTerms) of a matrix against a long-double
   using ld = long double;
   namespace d = lieservo::detail;
   lieservo::sampling::Rng rng(77);
-  const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0.0, 1.0); };
   const double pi = lieservo::pi<double>();
   double worst = 0, worst_at = 0, worst_same = 0, worst_theta2 = 0, worst_trig = 0, worst_omc = 0,
          worst_omc_ctor = 0;
   int direct = 0, quaternion = 0, closed = 0;
   for (int i = 0; i < 100000; ++i) {
-    const double angle = (i % 2 == 0) ? std::min(pi * (1 - 1e-7), 1e-10 * std::pow(pi * 1e10, u(rng)))
-                                      : 2 * pi / 3 + 1e-3 * (2 * u(rng) - 1);
+    const double angle = (i % 2 == 0) ? std::min(pi * (1 - 1e-7), 1e-10 * std::pow(pi * 1e10, uniform(rng, 0.0, 1.0)))
+                                      : 2 * pi / 3 + 1e-3 * (2 * uniform(rng, 0.0, 1.0) - 1);
     const typename SO3<S>::Matrix C = SO3<S>::exp(lst::tangentWithAngle<SO3<S>>(rng, angle, 0.0)).matrix();
     (C.trace() > S(0) ? direct : quaternion)++;
     const Eigen::Matrix<ld, 3, 3> Cl = C.template cast<ld>();

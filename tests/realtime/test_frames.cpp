@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 
+using lieservo::sampling::uniform;
 using lieservo::Status;
 using namespace lieservo::realtime;
 
@@ -87,15 +88,14 @@ TEST_CASE("frames: conversion matches finite differences of the rigid-body motio
   // EE pose X_OE(h) = X_OS(h) X_ES⁻¹, and compare (p_OE(h) − p_OE)/h and the rotation rate
   // with the converted command.
   lieservo::sampling::Rng rng(42);
-  const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -1, 1); };
   for (int trial = 0; trial < 50; ++trial) {
     const Matrix3 R_oe = Eigen::Quaterniond::UnitRandom().toRotationMatrix();
-    const Vector3 p_oe(u(rng), u(rng), u(rng));
+    const Vector3 p_oe(uniform(rng, -1.0, 1.0), uniform(rng, -1.0, 1.0), uniform(rng, -1.0, 1.0));
     SensorMount m;
     m.R_es = Eigen::Quaterniond::UnitRandom().toRotationMatrix();
-    m.p_es = 0.2 * Vector3(u(rng), u(rng), u(rng));
+    m.p_es = 0.2 * Vector3(uniform(rng, -1.0, 1.0), uniform(rng, -1.0, 1.0), uniform(rng, -1.0, 1.0));
     Vector6 xi;
-    for (int i = 0; i < 6; ++i) xi[i] = u(rng);
+    for (int i = 0; i < 6; ++i) xi[i] = uniform(rng, -1.0, 1.0);
 
     const Matrix3 R_os = R_oe * m.R_es;
     const Vector3 p_os = p_oe + R_oe * m.p_es;
@@ -189,14 +189,13 @@ TEST_CASE("frames: the conversion is Ad(X_O'S) of the library's SE3 (mixed twist
   using SE3d = lieservo::SE3<double>;
   using SO3d = lieservo::SO3<double>;
   lieservo::sampling::Rng rng(7);
-  const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -1, 1); };
   for (int trial = 0; trial < 20; ++trial) {
     const Matrix3 R_oe = Eigen::Quaterniond::UnitRandom().toRotationMatrix();
     SensorMount m;
     m.R_es = Eigen::Quaterniond::UnitRandom().toRotationMatrix();
-    m.p_es = 0.2 * Vector3(u(rng), u(rng), u(rng));
+    m.p_es = 0.2 * Vector3(uniform(rng, -1.0, 1.0), uniform(rng, -1.0, 1.0), uniform(rng, -1.0, 1.0));
     Vector6 xi;
-    for (int i = 0; i < 6; ++i) xi[i] = u(rng);
+    for (int i = 0; i < 6; ++i) xi[i] = uniform(rng, -1.0, 1.0);
     const SE3d X(SO3d::fromMatrixUnchecked(R_oe * m.R_es), R_oe * m.p_es);
     CHECK((X.Ad() * xi).isApprox(sensorTwistToBase(R_oe, m, xi), 1e-12));
   }

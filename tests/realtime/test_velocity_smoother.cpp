@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 
+using lieservo::sampling::uniform;
 using lieservo::Status;
 using lieservo::realtime::AxisLimits;
 using lieservo::realtime::SmootherLimits;
@@ -38,9 +39,8 @@ SmootherLimits<double> limitSet(int which) {
 }
 
 Twist randomTwist(lieservo::sampling::Rng& rng, const SmootherLimits<double>& l, double scale) {
-  const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -1.0, 1.0); };
   Twist t;
-  for (int i = 0; i < 6; ++i) t[i] = scale * u(rng) * (i < 3 ? l.translation.velocity : l.rotation.velocity);
+  for (int i = 0; i < 6; ++i) t[i] = scale * uniform(rng, -1.0, 1.0) * (i < 3 ? l.translation.velocity : l.rotation.velocity);
   return t;
 }
 
@@ -223,14 +223,13 @@ TEST_CASE("smoother: variable dt keeps acceleration and jerk exact, velocity wit
   VelocitySmoother<double> s;
   REQUIRE(s.setLimits(L) == Status::ok);
   lieservo::sampling::Rng rng(5);
-  const auto udt = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0.5e-3, 3e-3); };
   Twist v_prev = Twist::Zero(), a_prev = Twist::Zero();
   double worst = 0, worst_v = 0;
   const long segments = lieservo::test::scaledCount(200, 20);
   for (long seg = 0; seg < segments; ++seg) {
     const Twist target = randomTwist(rng, L, 1.5);
     for (int k = 0; k < 100; ++k) {
-      const double dt = udt(rng);
+      const double dt = uniform(rng, 0.5e-3, 3e-3);
       stepOrFail(s, target, dt);
       const Twist v = s.velocity(), a = (v - v_prev) / dt, j = (a - a_prev) / dt;
       worst = std::max({worst, a.head<3>().norm() / L.translation.acceleration, j.head<3>().norm() / L.translation.jerk,

@@ -17,6 +17,8 @@
 #include "replay.hpp"
 #include "svg_test_util.hpp"
 
+using lieservo::sampling::standardNormal;
+using lieservo::sampling::uniform;
 using namespace lieservo;
 using namespace lieservo::replay;
 
@@ -50,13 +52,12 @@ TEST_CASE("replay: every scatter-plot panel shows its data, an empty plot shows 
   // 50 points per component inside the axes (actual = predicted ± a little).
   std::vector<std::array<double, 6>> actual, predicted, precision;
   lieservo::sampling::Rng rng(7);
-  const auto U = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -5, 5); };
   for (int i = 0; i < 50; ++i) {
     std::array<double, 6> a{}, p{}, q{};
     for (std::size_t j = 0; j < 6; ++j) {
-      a[j] = U(rng);
-      p[j] = a[j] + 0.1 * U(rng);
-      q[j] = 1.0 + std::fabs(U(rng));
+      a[j] = uniform(rng, -5.0, 5.0);
+      p[j] = a[j] + 0.1 * uniform(rng, -5.0, 5.0);
+      q[j] = 1.0 + std::fabs(uniform(rng, -5.0, 5.0));
     }
     actual.push_back(a);
     predicted.push_back(p);
@@ -144,20 +145,18 @@ namespace {
 /// observations of known σ (mm, deg).
 void syntheticSequence(std::size_t n, std::vector<Sample>& samples, std::vector<ConcentratedGaussian<SE3d>>& obs) {
   lieservo::sampling::Rng rng(7);
-  const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -1.0, 1.0); };
-  const auto g = [](auto& gen) { return lieservo::sampling::standardNormal(gen); };
   const double sigma[6] = {0.5, 0.5, 0.15, 0.6 * lieservo::pi<double>() / 180, 0.8 * lieservo::pi<double>() / 180, 1.5 * lieservo::pi<double>() / 180};
   samples.clear();
   obs.clear();
   for (std::size_t i = 0; i < n; ++i) {
     Sample s;
     s.image = "synthetic_" + std::to_string(i);
-    s.euler = {5 * u(rng) / 1.5, 5 * u(rng) / 1.5, 3.25 + 2.75 * u(rng), 25 * u(rng), 25 * u(rng), 5 * u(rng)};
+    s.euler = {5 * uniform(rng, -1.0, 1.0) / 1.5, 5 * uniform(rng, -1.0, 1.0) / 1.5, 3.25 + 2.75 * uniform(rng, -1.0, 1.0), 25 * uniform(rng, -1.0, 1.0), 25 * uniform(rng, -1.0, 1.0), 5 * uniform(rng, -1.0, 1.0)};
     s.xi = labelFromEulerDegrees(s.euler);
     SE3d::Tangent mu, sd;
     for (int j = 0; j < 6; ++j) {
       sd(j) = sigma[j];
-      mu(j) = s.xi[static_cast<std::size_t>(j)] + sigma[j] * g(rng);
+      mu(j) = s.xi[static_cast<std::size_t>(j)] + sigma[j] * standardNormal(rng);
     }
     ConcentratedGaussian<SE3d> o;
     REQUIRE(fromTangentGaussian(mu, sd, o) == Status::ok);

@@ -7,17 +7,17 @@
 #include "lieservo_sim/contact_model.hpp"
 #include "lieservo_sim/observation_model.hpp"
 
+using lieservo::sampling::uniform;
 using namespace lieservo::sim;
 
 namespace {
 // A contact drawn from the paper's training distribution (Section 3.1.2, sec:data_collection).
 ContactState sampleTrainingContact(lieservo::sampling::Rng& rng) {
-  const auto U = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0, 1); };
-  const double r = 5 * std::sqrt(U(rng)), th = 2 * kPi * U(rng);
-  const double z = 0.5 + 5.5 * U(rng);
-  const double phi = std::acos(1 - (1 - std::cos(deg(25))) * U(rng)), th2 = 2 * kPi * U(rng);
+  const double r = 5 * std::sqrt(uniform(rng, 0.0, 1.0)), th = 2 * kPi * uniform(rng, 0.0, 1.0);
+  const double z = 0.5 + 5.5 * uniform(rng, 0.0, 1.0);
+  const double phi = std::acos(1 - (1 - std::cos(deg(25))) * uniform(rng, 0.0, 1.0)), th2 = 2 * kPi * uniform(rng, 0.0, 1.0);
   const double p = std::sin(phi) * std::cos(th2), q = std::sin(phi) * std::sin(th2), rr = std::cos(phi);
-  const double a = -std::asin(q), b = -std::atan2(p, rr), g = deg(-5 + 10 * U(rng));
+  const double a = -std::asin(q), b = -std::atan2(p, rr), g = deg(-5 + 10 * uniform(rng, 0.0, 1.0));
   ContactState c;
   c.in_contact = true;
   c.depth = z;

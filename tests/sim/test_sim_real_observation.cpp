@@ -14,6 +14,7 @@
 #include <lieservo_sim/real_observation.hpp>
 #include <lieservo_sim/tasks.hpp>
 
+using lieservo::sampling::uniform;
 using namespace lieservo::sim;
 using Catch::Matchers::Contains;
 
@@ -60,10 +61,11 @@ TEST_CASE("real observations: the k-d tree's nearest image is the brute-force ne
   for (std::size_t i = 0; i < n; ++i) sq += (real.labelEuler(i) - mean).cwiseAbs2();
   const Vec6 scale = (sq / double(n - 1)).cwiseSqrt();
   lieservo::sampling::Rng rng(7);
-  const auto u = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, -1, 1); };
   for (int q = 0; q < 2000; ++q) {
     Vec6 e;  // over and beyond the data's range: shear ±7 mm, depth −1…8 mm, tilts ±35°, γ ±8°
-    e << 7 * u(rng), 7 * u(rng), 3.5 + 4.5 * u(rng), deg(35) * u(rng), deg(35) * u(rng), deg(8) * u(rng);
+    const Vec6 half_range(7, 7, 4.5, deg(35), deg(35), deg(8));
+    for (int i = 0; i < 6; ++i) e[i] = half_range[i] * uniform(rng, -1.0, 1.0);
+    e[2] += 3.5;
     double best = 1e300;
     for (std::size_t i = 0; i < n; ++i) best = std::min(best, (real.labelEuler(i) - e).cwiseQuotient(scale).squaredNorm());
     const std::size_t k = real.nearest(e);

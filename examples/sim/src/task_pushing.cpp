@@ -59,19 +59,17 @@ PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& opt, std::u
   const double h = dt / substeps;
   const double R = opt.contact.tip_radius;
   lieservo::sampling::Rng rng(trial_seed * 6364136223846793005ULL + 1442695040888963407ULL);
-  const auto N01 = [](auto& gen) { return lieservo::sampling::standardNormal(gen); };
-  const auto U = [=](auto& gen) { return lieservo::sampling::uniform<double>(gen, 0.9, 1.1); };
 
   // The scene: support (friction ±10 %), the object in front of the leader, one or two sensors.
   mujoco::SceneSpec scene;
   scene.timestep = h;
   scene.support = setup.surface;
-  scene.support.friction *= U(rng);
+  scene.support.friction *= lieservo::sampling::uniform(rng, 0.9, 1.1);
   ObjectSpec obj = setup.object;
   obj.friction = opt.contact.skin_friction;
   obj.contact_height = setup.sensor_height;
-  const double jitter_y = 2.0 * std::clamp(N01(rng), -2.0, 2.0);
-  obj.yaw = obj.shape == "circle" ? 0.0 : deg(2.0) * std::clamp(N01(rng), -2.0, 2.0);
+  const double jitter_y = 2.0 * std::clamp(lieservo::sampling::standardNormal(rng), -2.0, 2.0);
+  obj.yaw = obj.shape == "circle" ? 0.0 : deg(2.0) * std::clamp(lieservo::sampling::standardNormal(rng), -2.0, 2.0);
   const double a = mujoco::halfExtentX(obj);
   obj.x = setup.start.x() + R - setup.initial_depth + a;
   obj.y = setup.start.y() + jitter_y;

@@ -22,9 +22,9 @@
 // rounding-level loss of definiteness is repaired by a relative diagonal load of 1024 eps).
 //
 // FusionForm::information instead forms the information matrix H = Σ_i A_iᵀA_i and its
-// Cholesky factor each iteration: cheaper than the Householder reduction, but H's condition
-// number is the square of R's, so it is for well-conditioned factors only. Its speed and its
-// accuracy on the hard set are measured beside the default's in docs/performance.md.
+// Cholesky factor each iteration: fewer flops than the Householder reduction, but measured no
+// faster (docs/performance.md), and H's condition number is the square of R's, so it loses
+// accuracy on ill-conditioned factors (docs/estimation.md). The square-root form is the default.
 #pragma once
 
 #include <cmath>
@@ -43,7 +43,7 @@ namespace lieservo {
 /// How fuse() solves each iteration's normal equations (see the file comment).
 enum class FusionForm {
   square_root,  ///< default: whitened rows reduced by Householder; condition number not squared
-  information,  ///< H = Σ A_iᵀA_i formed and Cholesky-factorised: faster, squares the condition number
+  information,  ///< H = Σ A_iᵀA_i formed and Cholesky-factorised; squares the condition number
 };
 
 /// Iteration control of fuse().

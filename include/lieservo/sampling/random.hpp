@@ -19,12 +19,8 @@
 #include <random>
 #include <type_traits>
 
-namespace lieservo::sampling {
-
-/// The seeded generator used throughout: the 64-bit Mersenne Twister (fixed by the standard).
-using Rng = std::mt19937_64;
-
-namespace detail {
+namespace lieservo::detail {
+/// Number of significant bits of v (bitWidth(2^k − 1) = k).
 constexpr int bitWidth(std::uint64_t v) {
   int n = 0;
   while (v != 0) {
@@ -33,7 +29,12 @@ constexpr int bitWidth(std::uint64_t v) {
   }
   return n;
 }
-}  // namespace detail
+}  // namespace lieservo::detail
+
+namespace lieservo::sampling {
+
+/// The seeded generator used throughout: the 64-bit Mersenne Twister (fixed by the standard).
+using Rng = std::mt19937_64;
 
 /// A uniform draw in [0, 1) with std::numeric_limits<Scalar>::digits random bits, built from
 /// the generator's raw output only. The generator's range max()−min() must be 2^k − 1 (true
@@ -46,7 +47,7 @@ Scalar uniformCanonical(URBG& rng) {
   constexpr std::uint64_t range = static_cast<std::uint64_t>(URBG::max() - URBG::min());
   static_assert(range != 0 && (range & (range + 1)) == 0,
                 "URBG range must be 2^k - 1 (e.g. std::mt19937_64)");
-  constexpr int kbits = detail::bitWidth(range);
+  constexpr int kbits = lieservo::detail::bitWidth(range);
   constexpr int need = std::numeric_limits<Scalar>::digits < 63 ? std::numeric_limits<Scalar>::digits : 63;
   std::uint64_t acc = 0;
   int have = 0;
