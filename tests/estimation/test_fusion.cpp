@@ -720,7 +720,8 @@ TEST_CASE("fusion: hard cases", "[estimation][fusion][hard]") {
 // ---------------------------------------------------------------------------------------------
 TEST_CASE("fusion: the information form agrees with the square-root form on realistic factors",
           "[estimation][fusion]") {
-  // Criterion (set before the run): on 1e5 seeded realistic pairs (σ 0.1–1 mm, 0.5–2°, random
+  // Criterion (set before the run): on 1e5 seeded realistic pairs (scaled down in sanitizer
+  // builds, LIESERVO_SLOW_TESTS_SCALE) (σ 0.1–1 mm, 0.5–2°, random
   // correlations, means about one σ apart), paper policy and closed form, 5 iterations, both
   // forms return ok, the means differ by at most 1e-9 in units of the fused σ (Mahalanobis under
   // the square-root form's Σ) and the covariances by at most 1e-9 relative (Frobenius).
@@ -728,10 +729,10 @@ TEST_CASE("fusion: the information form agrees with the square-root form on real
   lieservo::sampling::Rng rng(20261125);
   FusionOptions<double> sqrt_form, info_form;
   info_form.form = FusionForm::information;
-  const int n = 100000;
+  const long n = test::scaledCount(100000, 10000);
   double worst_mean = 0, worst_cov = 0;
   int failures = 0;
-  for (int t = 0; t < n; ++t) {
+  for (long t = 0; t < n; ++t) {
     const G centre = G::exp(randn<G::Tangent>(rng, 1.0));
     const auto a = randomFactor(rng, centre, realisticSigma<G>(rng));
     const auto b = randomFactor(rng, centre, realisticSigma<G>(rng));
@@ -746,7 +747,7 @@ TEST_CASE("fusion: the information form agrees with the square-root form on real
     worst_mean = std::max(worst_mean, mahalanobis(lminus(ri.fused.mean, rs.fused.mean), rs.fused.covariance));
     worst_cov = std::max(worst_cov, relDiff(ri.fused.covariance, rs.fused.covariance));
   }
-  std::printf("[fusion] information vs square-root form over %d pairs: mean %.2e sigma, covariance %.2e\n", n,
+  std::printf("[fusion] information vs square-root form over %ld pairs: mean %.2e sigma, covariance %.2e\n", n,
               worst_mean, worst_cov);
   CHECK(failures == 0);
   CHECK(worst_mean <= 1e-9);
