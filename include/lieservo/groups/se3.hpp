@@ -42,16 +42,26 @@ class SE3 {
   static SE3 identity() { return SE3(); }
 
   // ---- group operations -----------------------------------------------------------------
-  SE3 operator*(const SE3& o) const { return SE3(C_ * o.C_, C_ * o.r_ + r_); }
+  /// Written in place from the operands (see SO3::operator*: no temporaries read back).
+  SE3 operator*(const SE3& o) const {
+    SE3 x;
+    detail::multiply3(C_.rotationMatrix(), o.C_.rotationMatrix(), x.C_.rotationMatrix());
+    x.r_ = r_;
+    x.r_.noalias() += C_.rotationMatrix() * o.r_;
+    return x;
+  }
   SE3& operator*=(const SE3& o) {
     r_ = C_ * o.r_ + r_;
     C_ *= o.C_;
     return *this;
   }
   Point operator*(const Point& p) const { return C_ * p + r_; }
+  /// [Cᵀ, −Cᵀr], both read from C (not from the stored transpose: see operator*).
   SE3 inverse() const {
-    const SO3Type Ci = C_.inverse();
-    return SE3(Ci, -(Ci * r_));
+    SE3 x;
+    x.C_.rotationMatrix() = C_.rotationMatrix().transpose();
+    x.r_.noalias() = -(C_.rotationMatrix().transpose() * r_);
+    return x;
   }
 
   // ---- exp / log --------------------------------------------------------------------------
@@ -130,42 +140,53 @@ class SE3 {
   /// Truncated series Σ_{n=0}^{N} B_n/n! (ξ⋏)^n (eq. 34, eqn:inv_jacobian_def); N = 2 is the paper's.
   template <int N>
   static Jacobian leftJacobianInverseSeries(const Tangent& xi) {
-    // Horner in ad(ξ) = [[Φ, P], [0, Φ]] (Φ = φ^, P = ρ^), 3×3 blocks: every partial sum
-    // r = [[D, U], [0, D]] keeps that shape, and ad·r = [[ΦD, ΦU + PD], [0, ΦD]], so a
-    // step costs three 3×3 products instead of one dense 6×6 product (81 vs 216 multiplies).
     constexpr detail::BernoulliTable<N> c;
     const Vector3 rho = xi.template head<3>(), phi = xi.template tail<3>();
-    const Matrix3 Phi = detail::skew(phi);
-    const Matrix3 P = detail::skew(rho);
-    Matrix3 D, U;
+    Jacobian Jinv;
     if constexpr (N <= 2) {
-      // Up to the paper's order, directly: with Φ² = φφᵀ − θ²1 and ΦP + PΦ = ρφᵀ + φρᵀ − 2(φ·ρ)1
-      // (a^b^ = baᵀ − (a·b)1), D = 1 + b1 Φ + b2 Φ², U = b1 P + b2 (ΦP + PΦ).
+      // Up to the paper's order, entry by entry straight into the result (small Eigen block
+      // expressions here were left as out-of-line loops and cost more than the arithmetic):
+      // with Φ² = φφᵀ − θ²1 and ΦP + PΦ = ρφᵀ + φρᵀ − 2(φ·ρ)1 (a^b^ = baᵀ − (a·b)1),
+      // D = 1 + b1 Φ + b2 Φ², U = b1 P + b2 (ΦP + PΦ).
       const Scalar b1 = N >= 1 ? Scalar(Real(c.b[N >= 1 ? 1 : 0])) : Scalar(0);
       const Scalar b2 = N >= 2 ? Scalar(Real(c.b[N >= 2 ? 2 : 0])) : Scalar(0);
-      D = b1 * Phi;
-      U = b1 * P;
-      if constexpr (N == 2) {
-        D.noalias() += b2 * (phi * phi.transpose());
-        D.diagonal().array() -= b2 * phi.squaredNorm();
-        U.noalias() += b2 * (rho * phi.transpose() + phi * rho.transpose());
-        U.diagonal().array() -= Scalar(2) * b2 * phi.dot(rho);
-      }
-      D.diagonal().array() += Scalar(1);
+      const Scalar dd = Scalar(1) - b2 * phi.squaredNorm();  // D's diagonal offset
+      const Scalar ud = Scalar(-2) * b2 * phi.dot(rho);       // U's diagonal offset
+      const Vector3 p1 = b1 * phi, r1 = b1 * rho, p2 = b2 * phi, r2 = b2 * rho;
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) {
+          const Scalar d = p2(i) * phi(j) + (i == j ? dd : Scalar(0));
+          const Scalar u = r2(i) * phi(j) + p2(i) * rho(j) + (i == j ? ud : Scalar(0));
+          Jinv(i, j) = d;
+          Jinv(i + 3, j + 3) = d;
+          Jinv(i, j + 3) = u;
+          Jinv(i + 3, j) = Scalar(0);
+        }
+      // the skew parts b1 φ^ and b1 ρ^ (off-diagonal only)
+      Jinv(0, 1) -= p1(2); Jinv(1, 0) += p1(2); Jinv(0, 2) += p1(1);
+      Jinv(2, 0) -= p1(1); Jinv(1, 2) -= p1(0); Jinv(2, 1) += p1(0);
+      Jinv(3, 4) -= p1(2); Jinv(4, 3) += p1(2); Jinv(3, 5) += p1(1);
+      Jinv(5, 3) -= p1(1); Jinv(4, 5) -= p1(0); Jinv(5, 4) += p1(0);
+      Jinv(0, 4) -= r1(2); Jinv(1, 3) += r1(2); Jinv(0, 5) += r1(1);
+      Jinv(2, 3) -= r1(1); Jinv(1, 5) -= r1(0); Jinv(2, 4) += r1(0);
     } else {
-      D = Matrix3::Identity() * Scalar(Real(c.b[N]));
-      U.setZero();
+      // Horner in ad(ξ) = [[Φ, P], [0, Φ]] (Φ = φ^, P = ρ^), 3×3 blocks: every partial sum
+      // r = [[D, U], [0, D]] keeps that shape, and ad·r = [[ΦD, ΦU + PD], [0, ΦD]], so a
+      // step costs three 3×3 products instead of one dense 6×6 product (81 vs 216 multiplies).
+      const Matrix3 Phi = detail::skew(phi);
+      const Matrix3 P = detail::skew(rho);
+      Matrix3 D = Matrix3::Identity() * Scalar(Real(c.b[N]));
+      Matrix3 U = Matrix3::Zero();
       for (int n = N - 1; n >= 0; --n) {
         U = (Phi * U + P * D).eval();
         D = (Phi * D).eval();
         D.diagonal().array() += Scalar(Real(c.b[n]));
       }
+      Jinv.template topLeftCorner<3, 3>() = D;
+      Jinv.template topRightCorner<3, 3>() = U;
+      Jinv.template bottomLeftCorner<3, 3>().setZero();
+      Jinv.template bottomRightCorner<3, 3>() = D;
     }
-    Jacobian Jinv;
-    Jinv.template topLeftCorner<3, 3>() = D;
-    Jinv.template topRightCorner<3, 3>() = U;
-    Jinv.template bottomLeftCorner<3, 3>().setZero();
-    Jinv.template bottomRightCorner<3, 3>() = D;
     return Jinv;
   }
   static Jacobian rightJacobian(const Tangent& xi) { return leftJacobian(-xi); }

@@ -40,13 +40,24 @@ class SO3 {
 
   // ---- group operations -----------------------------------------------------------------
   /// Composition: a plain matrix product (no hidden renormalisation; see normalize()).
-  SO3 operator*(const SO3& o) const { return fromMatrixUnchecked(C_ * o.C_); }
+  /// The result is written in place, not copied from a temporary: a copy reads back with
+  /// vector loads what was just stored element-wise, and that store-to-load forwarding stall
+  /// cost more than the product itself (the same in SE3).
+  SO3 operator*(const SO3& o) const {
+    SO3 r;
+    detail::multiply3(C_, o.C_, r.C_);
+    return r;
+  }
   SO3& operator*=(const SO3& o) {
     C_ = (C_ * o.C_).eval();
     return *this;
   }
   Point operator*(const Point& p) const { return C_ * p; }
-  SO3 inverse() const { return fromMatrixUnchecked(C_.transpose()); }
+  SO3 inverse() const {
+    SO3 r;
+    r.C_ = C_.transpose();
+    return r;
+  }
 
   // ---- exp / log --------------------------------------------------------------------------
   /// exp(φ^) = I + (sinθ/θ) φ^ + ((1 − cosθ)/θ²) φ^φ^ (Rodrigues). Any |φ| (also ≥ π).

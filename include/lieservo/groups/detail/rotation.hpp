@@ -24,6 +24,16 @@ inline Eigen::Matrix<Scalar, 3, 3> skew(const Eigen::Matrix<Scalar, 3, 1>& p) {
   return m;
 }
 
+/// out = A B for 3×3 matrices, column by column (out.col(j) = Σ_k A.col(k) B(k, j)), written
+/// into `out` (which must not alias A or B). Eigen's coefficient-wise 3×3 product is not inlined
+/// for float (a function call per entry): this form is vectorised and inlined for both types.
+template <class Scalar>
+inline void multiply3(const Eigen::Matrix<Scalar, 3, 3>& A, const Eigen::Matrix<Scalar, 3, 3>& B,
+                      Eigen::Matrix<Scalar, 3, 3>& out) {
+  for (int j = 0; j < 3; ++j)
+    out.col(j) = A.col(0) * B(0, j) + A.col(1) * B(1, j) + A.col(2) * B(2, j);
+}
+
 /// Unit quaternion (w, x, y, z) of a rotation matrix by Shepperd's pivot: the largest of
 /// {tr C, C00, C11, C22} selects which of 4w², 4x², 4y², 4z² is taken under the square root,
 /// so the radicand is ≥ 1 for any orthonormal C and no component is recovered from a small,
