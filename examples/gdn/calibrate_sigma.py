@@ -61,6 +61,16 @@ def coverage_of(err: np.ndarray, sigma: np.ndarray) -> np.ndarray:
     return np.mean(np.abs(err) <= sigma, axis=0)
 
 
+def paired_difference(err_run: np.ndarray, err_base: np.ndarray):
+    """Per column, the mean of |err_run| − |err_base| over the same rows and its standard error
+    (rows paired: both models on the same images). [N, k] arrays, N ≥ 2."""
+    err_run, err_base = np.asarray(err_run, np.float64), np.asarray(err_base, np.float64)
+    if err_run.shape != err_base.shape or err_run.ndim != 2 or len(err_run) < 2:
+        raise ValueError(f'errors {err_run.shape} and {err_base.shape} must be the same [N, k], N >= 2')
+    d = np.abs(err_run) - np.abs(err_base)
+    return d.mean(0), d.std(0, ddof=1) / np.sqrt(len(d))
+
+
 def main(argv=None) -> int:
     import torch
     from dataset import default_data_dir, load_split
@@ -74,6 +84,11 @@ def main(argv=None) -> int:
     ap.add_argument('--card', default=os.path.join(HERE, 'models', 'model_card.json'))
     ap.add_argument('--write', action='store_true', help='store the factors in --card')
     ap.add_argument('--threads', type=int, default=1)
+    ap.add_argument('--baseline-run', default=None,
+                    help='another run directory whose GDN is evaluated on the same held-out rows, for '
+                    'comparison (its MAE per split is printed; e.g. the same recipe trained on train '
+                    'only: on the held-out val rows it shows what seeing the val session gained. Its '
+                    'own training rows are not excluded, so compare on splits it did not train on)')
     args = ap.parse_args(argv)
     torch.set_num_threads(args.threads)
 
@@ -92,7 +107,11 @@ def main(argv=None) -> int:
     if ck['kind'] != 'gdn':
         raise SystemExit(f'{ck_path}: a {ck["kind"]} checkpoint has no sigma')
 
-    errs, sigs, n_total = {}, {}, {}
+    baseline = None
+    if args.baseline_run:
+        bp = os.path.join(args.baseline_run, f'gdn_{args.weights}.pt')
+        baseline, _ = load_ckpt(bp)
+    errs, sigs, n_total, base_errs = {}, {}, {}, {}
     for split, rows in held.items():
         sp = load_split(args.data or default_data_dir(), split, verbose=False)
         n_total[split] = len(sp.images)
@@ -101,6 +120,9 @@ def main(argv=None) -> int:
         out = np.concatenate([torch_forward(model, x[i:i + 100]) for i in range(0, len(x), 100)])
         errs[split] = out[:, :6] - y                                     # network units (mm, deg)
         sigs[split] = 1.0 / out[:, 6:].astype(np.float64)
+        if baseline is not None:
+            bout = np.concatenate([torch_forward(baseline, x[i:i + 100]) for i in range(0, len(x), 100)])
+            base_errs[split] = bout[:, :6] - y
     err = np.concatenate(list(errs.values()))
     sig = np.concatenate(list(sigs.values()))
     k = sigma_scale(err, sig)
@@ -111,6 +133,12 @@ def main(argv=None) -> int:
     for split in held:
         print(f'MAE {split:<10} ' + ' '.join(f'{v:7.3f}' for v in np.abs(errs[split]).mean(0)))
     print('MAE (mm, deg)  ' + ' '.join(f'{v:7.3f}' for v in np.abs(err).mean(0)))
+    for split in base_errs:
+        print(f'baseline {split:<5} ' + ' '.join(f'{v:7.3f}' for v in np.abs(base_errs[split]).mean(0))
+              + f'   ({args.baseline_run}, {args.weights} weights)')
+        diff, se = paired_difference(errs[split], base_errs[split])
+        print(f'  run - base    ' + ' '.join(f'{v:+7.3f}' for v in diff))
+        print(f'  (paired s.e.) ' + ' '.join(f'{v:7.3f}' for v in se))
     print('mean sigma     ' + ' '.join(f'{v:7.3f}' for v in sig.mean(0)))
     print('coverage       ' + ' '.join(f'{v:7.3f}' for v in before) + f'   (Gaussian {GAUSS_1SIGMA:.3f})')
     print('scale          ' + ' '.join(f'{v:7.3f}' for v in k))

@@ -329,6 +329,26 @@ def sigma_calibration_factors():
 
 
 @test
+def paired_difference_mean_and_standard_error():
+    # Two models on the same rows: the run's |error| is the baseline's minus 0.1 plus noise of
+    # std 0.2 (|base| >= 1: no sign flips), so the mean difference is -0.1 and its standard
+    # error 0.2 / sqrt(N).
+    from calibrate_sigma import paired_difference
+    rng = np.random.RandomState(5)
+    base = rng.uniform(1.0, 2.0, size=(40000, 6)) * np.sign(rng.standard_normal((40000, 6)))
+    run = np.sign(base) * (np.abs(base) - 0.1 + 0.2 * rng.standard_normal((40000, 6)))
+    d, se = paired_difference(run, base)
+    assert np.all(np.abs(d + 0.1) < 5 * 0.2 / 200), d
+    assert np.all(np.abs(se / (0.2 / 200) - 1) < 0.02), se
+    for a, b in ((np.ones((3, 6)), np.ones((4, 6))), (np.ones((1, 6)), np.ones((1, 6)))):
+        try:
+            paired_difference(a, b)
+            assert False, 'accepted %r and %r' % (a.shape, b.shape)
+        except ValueError:
+            pass
+
+
+@test
 def augment_presets():
     # Values stay in [0, 1]; black stays black and white stays white under gamma (so the mask's
     # outside stays 0); the same generator seed gives the same batch; 'photometric' moves no
