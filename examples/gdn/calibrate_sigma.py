@@ -110,6 +110,8 @@ def main(argv=None) -> int:
     baseline = None
     if args.baseline_run:
         bp = os.path.join(args.baseline_run, f'gdn_{args.weights}.pt')
+        if not os.path.isfile(bp):
+            raise SystemExit(f'--baseline-run: {bp} not found (a train.py run directory with GDN weights)')
         baseline, _ = load_ckpt(bp)
     errs, sigs, n_total, base_errs = {}, {}, {}, {}
     for split, rows in held.items():
@@ -137,8 +139,8 @@ def main(argv=None) -> int:
         print(f'baseline {split:<5} ' + ' '.join(f'{v:7.3f}' for v in np.abs(base_errs[split]).mean(0))
               + f'   ({args.baseline_run}, {args.weights} weights)')
         diff, se = paired_difference(errs[split], base_errs[split])
-        print(f'  run - base    ' + ' '.join(f'{v:+7.3f}' for v in diff))
-        print(f'  (paired s.e.) ' + ' '.join(f'{v:7.3f}' for v in se))
+        print('  run - base    ' + ' '.join(f'{v:+7.3f}' for v in diff))
+        print('  (paired s.e.) ' + ' '.join(f'{v:7.3f}' for v in se))
     print('mean sigma     ' + ' '.join(f'{v:7.3f}' for v in sig.mean(0)))
     print('coverage       ' + ' '.join(f'{v:7.3f}' for v in before) + f'   (Gaussian {GAUSS_1SIGMA:.3f})')
     print('scale          ' + ' '.join(f'{v:7.3f}' for v in k))
