@@ -90,6 +90,10 @@ void checkAxioms(int n) {
     worst = std::max(worst, matDiff(G::identity() * a, a));
     worst = std::max(worst, matDiff(a * a.inverse(), G::identity()));
     worst = std::max(worst, matDiff(a.inverse() * a, G()));
+    // in-place composition is the same composition
+    G ab = a;
+    ab *= b;
+    worst = std::max(worst, matDiff(ab, a * b));
     // action is compatible with the matrix
     typename G::Point p = G::Point::Random();
     Eigen::Matrix<S, G::Dim, 1> q = (a * b) * p;

@@ -50,11 +50,7 @@ class SE3 {
     x.r_.noalias() += C_.rotationMatrix() * o.r_;
     return x;
   }
-  SE3& operator*=(const SE3& o) {
-    r_ = C_ * o.r_ + r_;
-    C_ *= o.C_;
-    return *this;
-  }
+  SE3& operator*=(const SE3& o) { return *this = *this * o; }
   Point operator*(const Point& p) const { return C_ * p + r_; }
   /// [Cᵀ, −Cᵀr], both read from C (not from the stored transpose: see operator*).
   SE3 inverse() const {

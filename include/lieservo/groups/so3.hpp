@@ -48,10 +48,7 @@ class SO3 {
     detail::multiply3(C_, o.C_, r.C_);
     return r;
   }
-  SO3& operator*=(const SO3& o) {
-    C_ = (C_ * o.C_).eval();
-    return *this;
-  }
+  SO3& operator*=(const SO3& o) { return *this = *this * o; }
   Point operator*(const Point& p) const { return C_ * p; }
   SO3 inverse() const {
     SO3 r;
