@@ -3,7 +3,7 @@
 // (Section 5.6, sec:single_arm_object_pushing_exp). See docs/hardware.md before running it.
 //
 //   franka_servo_example --robot 172.16.0.2 --task follow --camera 0
-//       --model-card models/model_card.json --preprocess processed_image_params.json
+//       --model-card examples/gdn/models/train_val/model_card.json --preprocess processed_image_params.json
 //       --mount 0,0,120,0,0,0 --start 450,0,150,180,0,0 --heading 90 --duration 30
 //   (one command line)
 //

@@ -10,12 +10,23 @@ images, write the reference outputs for the C++ tests and the model card.
 `last` (the final epoch, <kind>_last.pt -- what Keras's EarlyStopping hands back by default,
 restore_best_weights=False).
 
-Outputs (in examples/gdn/models/):
+Which images measure the model follows from what it was trained on (the run's
+<kind>_summary.json): a run on `train` only is measured on the whole `val` split (another
+recording session), written as the card's "validation"; a run that also trained on `val`
+(train.py --sessions train,val --holdout N) is measured on the rows it held out of each session,
+written as "held_out", and those rows are listed in held_out.csv beside the card. The card's
+data.trained_on says how many images of each split the network saw.
+
+    /usr/bin/python3 examples/gdn/export_onnx.py --gdn-run runs/gdn_trainval --cnn-run /nonexistent \
+        --weights last --out-dir models/train_val
+
+Outputs (in --out-dir, default examples/gdn/models/):
     gdn.onnx   input "input" [N,1,128,128] float32 in [0,1]; output "output" [N,12] =
                (mu_1..6, sigma^-1_1..6), units (mm, mm, mm, deg, deg, deg) and their inverses
     cnn.onnx   output [N,6] = xi estimate, (mm, mm, mm, deg, deg, deg)
     gdn_reference_outputs.csv   first 8 val images, PyTorch (eval) outputs, %.17g
     model_card.json
+    held_out.csv   (a run trained on val too) split,sensor_image of the rows it never saw
 """
 from __future__ import annotations
 
@@ -123,6 +134,45 @@ def write_reference(path, names, out):
             f.write(nm + ',' + ','.join('%.17g' % float(v) for v in row) + '\n')
 
 
+def run_sessions(run: str, kind: str) -> list:
+    """The splits a train.py run trained on (its <kind>_summary.json; runs that predate
+    --sessions trained on train only)."""
+    sp = os.path.join(run, f'{kind}_summary.json')
+    if os.path.isfile(sp):
+        with open(sp) as f:
+            return list(json.load(f).get('sessions', ['train']))
+    return ['train']
+
+
+def run_held_out(run: str) -> dict:
+    """{split: sorted row indices} that a train.py --holdout run kept out of training."""
+    from train import HOLDOUT_SEEDS, holdout_file
+    held = {}
+    for split in HOLDOUT_SEEDS:
+        p = os.path.join(run, holdout_file(split))
+        if os.path.isfile(p):
+            held[split] = np.loadtxt(p, dtype=np.int64, ndmin=1)
+    return held
+
+
+def evaluation_rows(sessions, held: dict, n_rows: dict):
+    """What the exported model is measured on: ('validation', {'val': all rows}) for a model that
+    never saw val (another recording session); ('held_out', {split: rows held out of it}) for a
+    model trained on val too -- only rows it never saw, of every session it trained on.
+    Also returns data.trained_on, {split: number of images trained on}."""
+    unknown = [s for s in sessions if s not in n_rows]
+    if unknown or not sessions:
+        raise ValueError(f'sessions {sessions}: each must be one of {sorted(n_rows)}')
+    trained_on = {s: int(n_rows[s] - len(held.get(s, ()))) for s in sessions}
+    if 'val' not in sessions:
+        return 'validation', {'val': np.arange(n_rows['val'])}, trained_on
+    missing = [s for s in sessions if len(held.get(s, ())) == 0]
+    if missing:
+        raise ValueError(f'a model trained on {"+".join(sessions)} has no held-out rows of '
+                         f'{", ".join(missing)}: nothing unseen to measure it on (train.py --holdout N)')
+    return 'held_out', {s: np.asarray(held[s]) for s in sessions}, trained_on
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument('--gdn-run', default='runs/gdn')
@@ -137,23 +187,49 @@ def main(argv=None):
 
     from dataset import load_split
     import labels as L
-    va = load_split(args.data, 'val', verbose=False)
-    X = va.images
-    Y = L.to_train_units(L.xi_from_euler6(va.euler6))
+    splits = {s: load_split(args.data, s, verbose=False) for s in ('train', 'val')}
+    labels = {s: L.to_train_units(L.xi_from_euler6(sp.euler6)) for s, sp in splits.items()}
+    X = splits['val'].images   # the cv2.dnn check and the reference outputs: first val images
 
     card_path = os.path.join(args.out_dir, 'model_card.json')
     card = {}
     if os.path.isfile(card_path):
         with open(card_path) as f:
             card = json.load(f)
-    card.update(card_common())
     card.setdefault('models', {})
-
+    # What each run trained on, checked before anything is written: one card describes one
+    # training set, so two runs trained on different images (or a run and a model the card
+    # keeps) are refused with the folder untouched.
+    jobs, data_seen = [], None   # data_seen: (trained_on, held-out rows)
     for kind, run in (('gdn', args.gdn_run), ('cnn', args.cnn_run)):
         ck_path = os.path.join(run, f'{kind}_{args.weights}.pt')
         if not os.path.isfile(ck_path):
             print(f'skip {kind}: no checkpoint {ck_path}')
             continue
+        sessions = run_sessions(run, kind)
+        held = {s: r for s, r in run_held_out(run).items() if s in sessions}
+        try:
+            eval_key, eval_rows, trained_on = evaluation_rows(
+                sessions, held, {s: len(sp.images) for s, sp in splits.items()})
+        except ValueError as e:
+            raise SystemExit(f'{run}: {e}')
+        seen = (trained_on, {s: r.tolist() for s, r in held.items()})
+        if data_seen is not None and seen != data_seen:
+            raise SystemExit(f'{run}: trained on other images than the model exported before it; '
+                             'one card describes one training set (use another --out-dir)')
+        data_seen = seen
+        jobs.append((kind, run, ck_path, sessions, eval_key, eval_rows))
+    if data_seen is None:
+        raise SystemExit('nothing exported: no checkpoint found (--gdn-run, --cnn-run)')
+    trained_on, held = data_seen
+    kept = [k for k in card['models'] if k not in [j[0] for j in jobs]]
+    before = card.get('data', {}).get('trained_on')
+    if kept and before is not None and before != trained_on:
+        raise SystemExit(f'{card_path} also describes {", ".join(kept)}, trained on {before}, not '
+                         f'{trained_on}: one card describes one training set (use another --out-dir)')
+
+    os.makedirs(args.out_dir, exist_ok=True)
+    for kind, run, ck_path, sessions, eval_key, eval_rows in jobs:
         model, ck = load_ckpt(ck_path)
         onnx_path = os.path.join(args.out_dir, f'{kind}.onnx')
         ops = export_model(model, onnx_path)
@@ -164,15 +240,24 @@ def main(argv=None):
         rel = float((np.abs(pt - cv) / np.maximum(1.0, np.abs(pt))).max())
         print(f'{kind}: cv2.dnn vs torch max|diff| = {diff:.3g} (rel {rel:.3g}) on {len(xv)} val images')
         ok = rel < 1e-4
-        # full-validation metrics with the exported weights (torch, eval mode)
-        out = np.concatenate([torch_forward(model, X[i:i + 50]) for i in range(0, len(X), 50)])
+        # metrics with the exported weights (torch, eval mode) on images the model never saw
+        outs, ys, by_split = [], [], {}
+        for split, rows in eval_rows.items():
+            xs = splits[split].images[rows]
+            o = np.concatenate([torch_forward(model, xs[i:i + 50]) for i in range(0, len(xs), 50)])
+            outs.append(o)
+            ys.append(labels[split][rows])
+            by_split[split] = {'n': int(len(rows)),
+                               'mae': dict(zip(COMP, map(float, np.abs(o[:, :6] - ys[-1]).mean(0))))}
+        out, Y = np.concatenate(outs), np.concatenate(ys)
         mae = np.abs(out[:, :6] - Y).mean(0)
+        pre = 'val_' if eval_key == 'validation' else ''
         if kind == 'gdn':
             s = out[:, 6:].astype(np.float64)
             nll_deg = float(np.mean(np.sum(0.5 * (s * (Y - out[:, :6])) ** 2 - np.log(s), 1)))
             nll_rad = nll_deg - 3 * math.log(180 / math.pi)
-            loss = {'val_nll_mm_deg': nll_deg, 'val_nll_mm_rad': nll_rad,
-                    'val_nll_mm_rad_plus_c': nll_rad + 3 * math.log(2 * math.pi),
+            loss = {pre + 'nll_mm_deg': nll_deg, pre + 'nll_mm_rad': nll_rad,
+                    pre + 'nll_mm_rad_plus_c': nll_rad + 3 * math.log(2 * math.pi),
                     'calibration_frac_within_1sigma': dict(zip(COMP, map(float, np.mean(
                         np.abs(Y - out[:, :6]) * s <= 1.0, 0)))),
                     'median_sigma': dict(zip(COMP, map(float, np.median(1.0 / s, 0)))),
@@ -180,10 +265,10 @@ def main(argv=None):
                             'mm/rad (paper units): -3 ln(180/pi); "+c" adds 6/2 ln(2 pi) '
                             '(the paper\'s -7.20 appears to include it)'}
             write_reference(os.path.join(args.out_dir, 'gdn_reference_outputs.csv'),
-                            va.names[:8], pt[:8])
+                            splits['val'].names[:8], pt[:8])
         else:
             mse = float(np.mean(np.sum(np.asarray(CNN_ALPHA_DEG) * (Y - out) ** 2, 1)))
-            loss = {'val_weighted_mse': mse,
+            loss = {pre + 'weighted_mse': mse,
                     'note': 'alpha = (1,1,1,100,100,100) with rotations in radians == '
                             'alpha*(pi/180)^2 on degrees; same value as the paper\'s loss'}
         summ = {}
@@ -219,11 +304,15 @@ def main(argv=None):
                          if kind == 'gdn' else
                          'weighted MSE, alpha=%s on mm/rad == %s on mm/deg' %
                          (list(CNN_ALPHA_RAD), [round(a, 6) for a in CNN_ALPHA_DEG])),
-                'optimizer': 'Adam, batch 16',
+                'optimizer': ('AdamW (decoupled weight decay {:g}), batch 16'.format(summ['weight_decay'])
+                              if summ.get('weight_decay') else 'Adam, batch 16'),
+                'augmentation': summ.get('augment', 'none'),
+                'sessions': sessions,
                 'schedule': 'LRPD: 1e-5 -> {0:g} linear over 3 epochs (per step), hold 1 epoch, '
                             'then ({0:g}-1e-7) sqrt(1 - (e-4)/(e_max-4)) + 1e-7'.format(
                                 hist.get('args', {}).get('lr_max', 1e-3)),
-                'early_stopping': 'patience 25 on val loss',
+                'early_stopping': 'patience {} on the loss of {}'.format(
+                    hist.get('args', {}).get('patience', 25), summ.get('monitor', 'val')),
                 'exported_weights': ('lowest-validation-loss epoch' if args.weights == 'best' else
                                      'final epoch of the LRPD schedule (Keras EarlyStopping '
                                      'default: restore_best_weights=False)'),
@@ -237,22 +326,74 @@ def main(argv=None):
                 'hardware': f'{summ.get("threads", "?")} CPU thread(s) (x86-64, shared 2-core VM), '
                             'PyTorch 1.13 CPU',
             },
-            'validation': {'n': int(len(X)), 'mae': dict(zip(COMP, map(float, mae))), **loss},
+            eval_key: {'n': int(len(Y)), 'mae': dict(zip(COMP, map(float, mae))),
+                       **({'by_split': by_split} if eval_key == 'held_out' else {}), **loss},
             'paper_table1': PAPER_TABLE1['GDN' if kind == 'gdn' else 'CNN'],
             'cv2_dnn_check': {'opencv': __import__('cv2').__version__, 'n_images': int(len(xv)),
                               'max_abs_diff': diff, 'max_rel_diff': rel, 'pass_1e-4': bool(ok)},
         }
+    card.update(card_common(trained_on))
+    card['data']['trained_on'] = trained_on
+    card['data'].pop('held_out', None)
+    held_path = os.path.join(args.out_dir, 'held_out.csv')
+    if held:
+        card['data']['held_out'] = {**{s: len(r) for s, r in held.items()}, 'file': 'held_out.csv'}
+        with open(held_path, 'w') as f:
+            f.write('split,sensor_image\n')
+            for split, rows in held.items():
+                f.writelines(f'{split},{splits[split].names[i]}\n' for i in rows)
+    elif os.path.isfile(held_path):
+        os.remove(held_path)   # a previous model's list; the card no longer names it
     card['paper_table1_note'] = PAPER_TABLE1['note']
     card['generated_utc'] = dt.datetime.now(dt.timezone.utc).strftime('%Y-%m-%dT%H:%M:%SZ')
-    os.makedirs(args.out_dir, exist_ok=True)
     with open(card_path, 'w') as f:
         json.dump(card, f, indent=1)
     print('wrote', card_path)
 
 
-def card_common():
+DEVIATIONS_TRAIN_ONLY = [
+    'ONE model of each kind (seed 0), not 10; metrics on the VALIDATION set (the '
+    'paper reports the test set, which is held out here). GDN: the weights of the final '
+    'epoch of the schedule (not selected on val); CNN: the lowest-val-loss epoch (model '
+    'selection on val, so its numbers are slightly optimistic).',
+    'Compute budget (CPU only). GDN (22 Nov): 1 CPU thread, 105-155 s/epoch beside a '
+    'second training run on the 2-core VM; the --deadline logic shortened the LRPD '
+    'schedule to e_max=39 (39 epochs run) instead of 50. CNN (21 Nov): 1 thread on the '
+    'loaded VM, 110-830 s/epoch, e_max=15 (16 epochs run).',
+    'GDN BatchNorm with the paper\'s TensorFlow/Keras defaults (eps 1e-3, moving-average '
+    'momentum 0.99 = PyTorch momentum 0.01) and peak lr 1e-3 as in the paper; the CNN uses '
+    'PyTorch defaults (eps 1e-5, momentum 0.1). An earlier GDN run at 1e-3 with '
+    'PyTorch BatchNorm blew up in its hold epoch.',
+    'Rotations in degrees in the losses/outputs (paper: radians); the CNN loss weights '
+    'are converted so that its loss is identical; for the GDN only the NLL constant '
+    'changes (-3 ln(180/pi)).',
+    'Width 16-32-64-128-256 (5 blocks, 4x4x256 features) chosen by us; the paper text '
+    'does not give the number of blocks/channels.',
+]
+
+# A model trained on both sessions is the one to deploy, not a reproduction of the paper's tables.
+DEVIATIONS_BOTH_SESSIONS = [
+    'Trained on both recording sessions of the shared data (train and val) except the rows listed '
+    'in held_out.csv: the model to deploy. Its numbers are measured on those held-out rows of '
+    'sessions it has seen, so they are neither the paper\'s test-set numbers nor a measure of a '
+    'new session; the paper\'s Tables 1 and 2 are reproduced with the model trained on train only '
+    '(examples/gdn/models/model_card.json).',
+    'ONE model (seed 0), not 10, with a schedule fixed in advance (LRPD over the full e_max '
+    'epochs) and the weights of its final epoch: nothing was selected on the held-out rows.',
+    'The recipe of examples/gdn/README.md ("A recipe for an unseen session"): see training.optimizer, '
+    'training.augmentation and training.command.',
+    'GDN BatchNorm with the paper\'s TensorFlow/Keras defaults (eps 1e-3, moving-average momentum '
+    '0.99 = PyTorch momentum 0.01); rotations in degrees in the loss and outputs (paper: radians; '
+    'only the NLL constant changes, -3 ln(180/pi)); width 16-32-64-128-256 (5 blocks) chosen by us.',
+]
+
+
+def card_common(trained_on: dict):
+    """The card's fields that do not depend on the exported weights; trained_on = {split: n}."""
+    both = 'val' in trained_on
     return {
-        'name': 'lieservo TacTip pose-and-shear models (GDN and CNN-regression)',
+        'name': ('lieservo TacTip pose-and-shear GDN, trained on both recording sessions (train + val)'
+                 if both else 'lieservo TacTip pose-and-shear models (GDN and CNN-regression)'),
         'paper': 'Lloyd & Lepora, "Pose-and-shear-based tactile servoing", IJRR',
         'data': {
             'source': 'github.com/dexterousrobot/tactile_data_shear, data/franka_tactip_1/'
@@ -268,25 +409,7 @@ def card_common():
                       '(result rounded to uint8)', 'float32 = uint8 / 255 (range [0, 1])'],
             'input_tensor': 'NCHW [N, 1, 128, 128], grayscale, float32 in [0,1]',
         },
-        'deviations_from_paper': [
-            'ONE model of each kind (seed 0), not 10; metrics on the VALIDATION set (the '
-            'paper reports the test set, which is held out here). GDN: the weights of the final '
-            'epoch of the schedule (not selected on val); CNN: the lowest-val-loss epoch (model '
-            'selection on val, so its numbers are slightly optimistic).',
-            'Compute budget (CPU only). GDN (22 Nov): 1 CPU thread, 105-155 s/epoch beside a '
-            'second training run on the 2-core VM; the --deadline logic shortened the LRPD '
-            'schedule to e_max=39 (39 epochs run) instead of 50. CNN (21 Nov): 1 thread on the '
-            'loaded VM, 110-830 s/epoch, e_max=15 (16 epochs run).',
-            'GDN BatchNorm with the paper\'s TensorFlow/Keras defaults (eps 1e-3, moving-average '
-            'momentum 0.99 = PyTorch momentum 0.01) and peak lr 1e-3 as in the paper; the CNN uses '
-            'PyTorch defaults (eps 1e-5, momentum 0.1). An earlier GDN run at 1e-3 with '
-            'PyTorch BatchNorm blew up in its hold epoch.',
-            'Rotations in degrees in the losses/outputs (paper: radians); the CNN loss weights '
-            'are converted so that its loss is identical; for the GDN only the NLL constant '
-            'changes (-3 ln(180/pi)).',
-            'Width 16-32-64-128-256 (5 blocks, 4x4x256 features) chosen by us; the paper text '
-            'does not give the number of blocks/channels.',
-        ],
+        'deviations_from_paper': DEVIATIONS_BOTH_SESSIONS if both else DEVIATIONS_TRAIN_ONLY,
         'labels': {
             'euler': '(x, y, z, alpha, beta, gamma) = (shear_x, shear_y, pose_z, pose_Rx, '
                      'pose_Ry, shear_Rz), mm and deg, extrinsic xyz: R = Rz(gamma) Ry(beta) '

@@ -486,12 +486,102 @@ def diagnose_label_summary():
 
 
 @test
+def ensemble_mixture_and_line_fit():
+    # Mixture moments against a Monte Carlo draw of the mixture; precision weighting against
+    # hand values; the line fit recovers a known slope and offset; bad shapes are refused.
+    from ensemble import line_fit, mixture_moments, precision_weighted_mean
+    mu = np.array([[[0.0, 1.0]], [[2.0, 1.0]]])          # K = 2, N = 1, d = 2
+    sigma = np.array([[[1.0, 0.5]], [[1.0, 2.0]]])
+    m, s = mixture_moments(mu, sigma)
+    assert np.allclose(m, [[1.0, 1.0]]) and np.allclose(s, [[np.sqrt(2.0), np.sqrt((0.25 + 4) / 2)]])
+    rng = np.random.RandomState(5)
+    pick = rng.randint(0, 2, 200000)
+    draw = mu[pick, 0] + sigma[pick, 0] * rng.randn(200000, 2)
+    assert np.allclose(draw.std(0), s[0], rtol=0.01), (draw.std(0), s[0])
+    assert np.allclose(precision_weighted_mean(mu, sigma), [[1.0, 1.0]])
+    assert np.allclose(precision_weighted_mean(np.array([[[0.0]], [[3.0]]]), np.array([[[1.0]], [[2.0]]])), [[0.6]])
+    x = rng.randn(1000, 3)
+    slope, offset = line_fit(x, x * np.array([0.8, 1.0, -2.0]) + np.array([0.1, 0.0, 3.0]))
+    assert np.allclose(slope, [0.8, 1.0, -2.0]) and np.allclose(offset, [0.1, 0.0, 3.0])
+    for bad in ((mu, sigma[:, :, :1]), (mu, -sigma), (mu[0], sigma[0])):
+        try:
+            mixture_moments(*bad)
+            assert False, 'accepted bad input'
+        except ValueError:
+            pass
+
+
+@test
+def export_measures_only_unseen_rows():
+    # A model trained on train only is measured on all of val; one trained on val too only on
+    # the rows it held out of each session, and without held-out rows it cannot be measured.
+    from export_onnx import evaluation_rows
+    n = {'train': 60, 'val': 20}
+    key, rows, seen = evaluation_rows(['train'], {}, n)
+    assert key == 'validation' and list(rows) == ['val'] and np.array_equal(rows['val'], np.arange(20))
+    assert seen == {'train': 60}
+    key, rows, seen = evaluation_rows(['train'], {'train': np.array([1, 5])}, n)   # a --holdout run
+    assert key == 'validation' and seen == {'train': 58}
+    held = {'train': np.array([0, 7, 9]), 'val': np.array([2, 3])}
+    key, rows, seen = evaluation_rows(['train', 'val'], held, n)
+    assert key == 'held_out' and seen == {'train': 57, 'val': 18}
+    assert np.array_equal(rows['train'], [0, 7, 9]) and np.array_equal(rows['val'], [2, 3])
+    for sessions, h in ((['train', 'val'], {'train': np.array([1])}), (['test'], {}), ([], {})):
+        try:
+            evaluation_rows(sessions, h, n)
+            assert False, sessions
+        except ValueError:
+            pass
+
+
+def _shipped_model_dirs():
+    """The exported GDNs: the reproduction model (train only) and the deployed one (train + val)."""
+    return [os.path.join(HERE, 'models'), os.path.join(HERE, 'models', 'train_val')]
+
+
+@test
+def train_val_card_lists_the_held_out_rows():
+    # The deployed GDN's card: its held_out.csv are exactly the rows train.py --holdout keeps out
+    # of each session, the counts agree with data.trained_on, and its numbers are measured there.
+    import json
+    from train import HOLDOUT_SEEDS, holdout_indices
+    from dataset import load_split
+    models = os.path.join(HERE, 'models', 'train_val')
+    if not os.path.isfile(os.path.join(models, 'model_card.json')):
+        return skip('train_val_card_lists_the_held_out_rows', 'models/train_val not exported yet')
+    d = data_dir()
+    if d is None:
+        return skip('train_val_card_lists_the_held_out_rows', 'no data set (set LIESERVO_DATA)')
+    with open(os.path.join(models, 'model_card.json')) as f:
+        card = json.load(f)
+    data = card['data']
+    with open(os.path.join(models, data['held_out']['file'])) as f:
+        rows = list(csv.DictReader(f))
+    gdn = card['models']['gdn']
+    assert 'validation' not in gdn and gdn['held_out']['n'] == len(rows)
+    for split in ('train', 'val'):
+        names = load_split(d, split, verbose=False).names
+        k = data['held_out'][split]
+        want = [names[i] for i in holdout_indices(len(names), k, HOLDOUT_SEEDS[split])]
+        assert [r['sensor_image'] for r in rows if r['split'] == split] == want, split
+        assert data['trained_on'][split] + k == data[split] == len(names)
+        assert gdn['held_out']['by_split'][split]['n'] == k
+    with open(os.path.join(HERE, 'models', 'model_card.json')) as f:
+        assert json.load(f)['data']['trained_on'] == {'train': 6000}
+
+
+@test
 def onnx_trained_gdn_reference_outputs():
+    for models in _shipped_model_dirs():
+        _check_reference_outputs(models)
+
+
+def _check_reference_outputs(models):
     import cv2
-    onnx_path = os.path.join(HERE, 'models', 'gdn.onnx')
-    ref_path = os.path.join(HERE, 'models', 'gdn_reference_outputs.csv')
+    onnx_path = os.path.join(models, 'gdn.onnx')
+    ref_path = os.path.join(models, 'gdn_reference_outputs.csv')
     if not (os.path.isfile(onnx_path) and os.path.isfile(ref_path)):
-        return skip('onnx_trained_gdn_reference_outputs', 'models/gdn.onnx not exported yet')
+        return skip('onnx_trained_gdn_reference_outputs', f'{onnx_path} not exported yet')
     d = data_dir()
     if d is None:
         return skip('onnx_trained_gdn_reference_outputs', 'no data set (set LIESERVO_DATA)')

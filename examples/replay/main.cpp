@@ -32,11 +32,13 @@ void usage(std::ostream& os) {
   os << "usage: lieservo_replay [--data DIR] [--split NAME] [--models DIR] [--quick N] [--plots DIR]\n"
         "                       [--results-md FILE]\n"
         "                       [--cache FILE] [--sigmas 10,1,0.1,0.01] [--seed S] [--no-cnn]\n"
-        "                       [--skip-missing] [--check] [--quiet]\n"
+        "                       [--unseen-only] [--skip-missing] [--check] [--quiet]\n"
         "  --data DIR        TacTip data (with one folder per split); default " LIESERVO_DEFAULT_DATA_DIR "\n"
         "  --split NAME      the split to replay: DIR/NAME/targets.csv and processed_images/; default val\n"
         "  --models DIR      model_card.json, gdn.onnx, cnn.onnx; default " LIESERVO_DEFAULT_MODELS_DIR "\n"
         "  --quick N         only the split's first N images\n"
+        "  --unseen-only     only the images the card's network did not train on (data.trained_on and\n"
+        "                    its held-out list: e.g. --models examples/gdn/models/train_val)\n"
         "  --plots DIR       write predicted-vs-actual scatter plots (SVG) here\n"
         "  --results-md FILE write the Markdown report (docs/results.md)\n"
         "  --cache FILE      cache the network outputs (keyed by model file hashes)\n"
@@ -78,6 +80,7 @@ int main(int argc, char** argv) {
       else if (a == "--cache") opt.cache_file = value("--cache");
       else if (a == "--seed") opt.seed = std::stoull(value("--seed"));
       else if (a == "--no-cnn") opt.run_cnn = false;
+      else if (a == "--unseen-only") opt.unseen_only = true;
       else if (a == "--skip-missing") skip_missing = true;
       else if (a == "--check") check = true;
       else if (a == "--quiet") opt.verbose = false;

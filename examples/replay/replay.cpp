@@ -1,6 +1,7 @@
 #include "replay.hpp"
 
 #include <lieservo_dataset/dataset_reader.hpp>
+#include <lieservo_dataset/trained_on.hpp>
 #include <lieservo/sampling/random.hpp>
 
 #include <algorithm>
@@ -145,8 +146,10 @@ std::vector<std::array<double, 12>> runNetwork(ad::OnnxPoseModel& model, const s
 std::string splitRole(const std::string& card_path, const std::string& split) {
   const std::string name = "the `" + split + "` split";
   dataset::JsonDocument card;
+  dataset::TrainedOn trained;
   try {
     card = dataset::readJsonFile(card_path);
+    trained = dataset::readTrainedOn(card_path);
   } catch (const std::exception&) {
     return name + ": the model card cannot be read, so whether the network saw these images is unknown.";
   }
@@ -158,8 +161,15 @@ std::string splitRole(const std::string& card_path, const std::string& split) {
       if (const dataset::JsonValue* training = gdn->find("training"))
         if (const dataset::JsonValue* es = training->find("early_stopping"))
           if (es->isString()) stopping = es->string;
-  if (split == "train")
+  if (trained.sawAll(split))
     return name + " is what the network was trained on: these numbers do not measure generalisation.";
+  if (trained.sawSplit(split)) {
+    long unseen = 0;
+    for (const auto& row : trained.held_out) unseen += row.first == split ? 1 : 0;
+    return name + ": the network was trained on " + std::to_string(trained.images.at(split)) + " of its images (the other " +
+           std::to_string(unseen) + " are listed in " + trained.held_out_file +
+           "): these numbers mix trained-on and unseen images and do not measure generalisation.";
+  }
   if (listed == nullptr)
     return name + " is not listed in the model card's data: the network did not see it in training "
                   "(if the card is complete).";
@@ -286,6 +296,21 @@ ReplayResults runReplay(const ReplayOptions& opt) {
   const std::string split_dir = opt.data_dir + "/" + opt.split;
   std::vector<Sample> samples = readTargets(split_dir + "/targets.csv");
   res.split_role = splitRole(opt.models_dir + "/model_card.json", opt.split);
+  if (opt.unseen_only) {
+    const std::string card = opt.models_dir + "/model_card.json";
+    const dataset::TrainedOn trained = dataset::readTrainedOn(card);  // DatasetError names the file
+    const std::size_t all = samples.size();
+    samples.erase(std::remove_if(samples.begin(), samples.end(),
+                                 [&](const Sample& s) { return trained.saw(opt.split, s.image); }),
+                  samples.end());
+    if (samples.empty())
+      throw std::runtime_error("--unseen-only: the network of " + card + " trained on every image of " + split_dir);
+    res.unseen_of = static_cast<int>(all);
+    if (samples.size() < all)
+      res.split_role = "these are the " + std::to_string(samples.size()) + " of the " + std::to_string(all) +
+                       " images of the `" + opt.split + "` split that the network did not train on (the model card's "
+                       "held-out rows), so they measure it on unseen images of a session it has seen.";
+  }
   if (opt.quick > 0 && static_cast<std::size_t>(opt.quick) < samples.size())
     samples.resize(static_cast<std::size_t>(opt.quick));
   const std::size_t n = samples.size();
@@ -620,6 +645,7 @@ std::string ReplayResults::markdown(const ReplayOptions& o, const std::string& c
         "to regenerate this file.\n\n";
   md << "```\n" << command << "\n```\n\n";
   md << "- Data: `" << displayPath(o.data_dir + "/" + o.split, o.display_root) << "` — " << n << " images";
+  if (o.unseen_only) md << " (`--unseen-only`: of its " << unseen_of << ", those the network did not train on)";
   if (o.quick > 0) md << " (first " << o.quick << " only: `--quick`)";
   md << ", in file order (targets.csv, increasing contact depth), as one sequence.\n";
   md << "- Models: `" << displayPath(o.models_dir, o.display_root) << "` (gdn.onnx" << (have_cnn ? ", cnn.onnx" : "")

@@ -28,6 +28,9 @@ struct ReplayOptions {
   std::string split = "val";     ///< the data set's sub-folder to replay (val, train, test, ...)
   std::string models_dir;        ///< contains model_card.json, gdn.onnx, cnn.onnx
   int quick = 0;                 ///< > 0: only the first N images
+  /// Only the split's images the card's network did not train on (its data.trained_on and
+  /// held-out list, lieservo_dataset/trained_on.hpp): e.g. the deployed GDN's held-out rows.
+  bool unseen_only = false;
   std::vector<double> sigma_psi{10.0, 1.0, 0.1, 0.01};  ///< Table 2 columns (mm and deg)
   std::uint64_t seed = 1;        ///< ψₖ noise
   bool run_cnn = true;           ///< also evaluate cnn.onnx when present
@@ -55,6 +58,7 @@ struct FilterRow {
 
 struct ReplayResults {
   int n = 0;                      ///< images replayed
+  int unseen_of = 0;              ///< with unseen_only: the split's images before the selection
   bool have_gdn = false;
   bool have_cnn = false;
   Vec6 gdn_mae{};                 ///< mm, deg
@@ -88,7 +92,8 @@ struct ReplayResults {
 };
 
 /// What `split` is to the network described by the model card at `card_path`, as a sentence
-/// for the report: the split it was trained on, one used for model selection (the card's
+/// for the report: the split it was trained on (all of it, or all but the card's held-out rows:
+/// data.trained_on, lieservo_dataset/trained_on.hpp), one used for model selection (the card's
 /// training.early_stopping names it), one the card lists but the network did not use, or one
 /// the card does not mention. Never says "validation" unless the split is called so.
 std::string splitRole(const std::string& card_path, const std::string& split);

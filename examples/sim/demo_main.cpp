@@ -3,6 +3,7 @@
 //
 //   lieservo_demo [--out DIR] [--seed N] [--trials N] [--rate HZ] [--quick] [--no-files]
 //                 [--calibration card|paper] [--observations auto|real|gaussian] [--data DIR]
+//                 [--model-card FILE]
 //
 // Exit status: 0 when every task met its success criteria, 1 when one failed, 2 on a usage
 // or set-up error.
@@ -42,18 +43,22 @@ void usage() {
   std::printf(
       "usage: lieservo_demo [--out DIR] [--seed N] [--trials N] [--rate HZ] [--quick] [--no-files]\n"
       "                     [--calibration card|paper] [--observations auto|real|gaussian] [--data DIR]\n"
+      "                     [--model-card FILE]\n"
       "  --out DIR    results folder (default: results)\n"
       "  --seed N     base seed (default 1)\n"
       "  --trials N   pushing trials per object and surface (default 5, as the paper)\n"
       "  --rate HZ    tactile control rate (default 20)\n"
       "  --quick      shortened runs (duration scale 0.3, 2 trials)\n"
       "  --no-files   do not write plots/CSVs\n"
-      "  --observations auto|real|gaussian  'real': the project's GDN on the nearest labelled\n"
-      "               TacTip image of the data set (train + val); 'gaussian': the calibrated\n"
-      "               Gaussian model; 'auto' (default): real when the data set is there\n"
+      "  --observations auto|real|gaussian  'real': the card's GDN on the nearest labelled\n"
+      "               TacTip image it did not train on (train + val splits); 'gaussian': the\n"
+      "               calibrated Gaussian model; 'auto' (default): real when the data set is there\n"
       "  --data DIR   the TacTip data set for 'real' (default: " LIESERVO_DEFAULT_DATA_DIR ")\n"
-      "  --calibration card|paper  the Gaussian model's error calibration: the project's model\n"
-      "               card (default, falls back to the paper) or the paper's Table 1\n"
+      "  --calibration card|paper  the Gaussian model's error calibration: the model card's\n"
+      "               measured MAE (default, falls back to the paper) or the paper's Table 1\n"
+      "  --model-card FILE  the GDN's model card (default: the deployed GDN, trained on train +\n"
+      "               val: " LIESERVO_SIM_MODEL_CARD ";\n"
+      "               the paper's reproduction model: examples/gdn/models/model_card.json)\n"
       "  --skin-friction MU     skin-object friction in the MuJoCo pushes (default 0.8)\n"
       "  --follower-y-gain K    the named variant 'follower + y' (not the paper's Table 9: Kp = K /s\n"
       "               on the follower's tangential y), run on the round objects and reported beside\n"
@@ -147,6 +152,8 @@ int main(int argc, char** argv) {
   std::string calibration = "card";
   std::string observations = "auto";
   std::string data_dir = LIESERVO_DEFAULT_DATA_DIR;
+  std::string model_card = LIESERVO_SIM_MODEL_CARD;
+  bool model_card_given = false;
   int trials = 5;
   double follower_y_gain = 1;
   for (int i = 1; i < argc; ++i) {
@@ -167,6 +174,7 @@ int main(int argc, char** argv) {
     else if (a == "--calibration") calibration = next();
     else if (a == "--observations") observations = next();
     else if (a == "--data") data_dir = next();
+    else if (a == "--model-card") model_card = next(), model_card_given = true;
     else if (a == "--skin-friction") opt.contact.skin_friction = std::atof(next());
     else if (a == "--follower-y-gain") follower_y_gain = std::atof(next());
     else if (a == "--help" || a == "-h") {
@@ -183,10 +191,13 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (calibration == "card") {
-#ifdef LIESERVO_SIM_MODEL_CARD
-    if (!GdnCalibration::fromModelCard(LIESERVO_SIM_MODEL_CARD, opt.calibration))
-      std::printf("note: no readable GDN model card at %s, using the paper's Table 1\n", LIESERVO_SIM_MODEL_CARD);
-#endif
+    if (!GdnCalibration::fromModelCard(model_card, opt.calibration)) {
+      if (model_card_given) {
+        std::fprintf(stderr, "--model-card %s: cannot read models.gdn's measured MAE from it\n", model_card.c_str());
+        return 2;
+      }
+      std::printf("note: no readable GDN model card at %s, using the paper's Table 1\n", model_card.c_str());
+    }
   } else if (calibration != "paper") {
     std::fprintf(stderr, "--calibration must be 'card' or 'paper'\n");
     return 2;
@@ -200,9 +211,7 @@ int main(int argc, char** argv) {
   if (observations == "real" || observations == "auto") {
     RealObservationOptions ro;
     ro.data_dir = data_dir;
-#ifdef LIESERVO_SIM_MODEL_CARD
-    ro.model_card = LIESERVO_SIM_MODEL_CARD;
-#endif
+    ro.model_card = model_card;
     try {
       opt.observations = std::make_shared<RealGdnObservations>(ro);
     } catch (const SceneError& e) {

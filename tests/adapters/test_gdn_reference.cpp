@@ -1,5 +1,6 @@
-// The real GDN (examples/gdn/models/gdn.onnx) run from C++ (pre-processing + cv::dnn)
-// on the first validation images matches the PyTorch outputs recorded by
+// The real GDNs (examples/gdn/models/gdn.onnx, the paper's reproduction model, and
+// examples/gdn/models/train_val/gdn.onnx, the deployed one) run from C++ (pre-processing + cv::dnn)
+// on the first validation images match the PyTorch outputs recorded by
 // examples/gdn/export_onnx.py (gdn_reference_outputs.csv) within 1e-4 (relative to
 // max(1, |value|)). Skipped with a message until the model and the data exist.
 #include <catch2/catch.hpp>
@@ -15,7 +16,9 @@
 using namespace lieservo::adapters;
 
 TEST_CASE("gdn: C++ inference on real images matches the recorded PyTorch outputs", "[adapters][onnx][data][gdn]") {
-  const std::string models = LIESERVO_GDN_MODELS_DIR;
+  const std::string models =
+      GENERATE(std::string(LIESERVO_GDN_MODELS_DIR), std::string(LIESERVO_GDN_MODELS_DIR) + "/train_val");
+  INFO("models: " << models);
   const std::string val = std::string(LIESERVO_DATA_DIR) + "/val";
   const std::string card = models + "/model_card.json", csv = models + "/gdn_reference_outputs.csv";
   if (!file_test::exists(models + "/gdn.onnx") || !file_test::exists(card) ||

@@ -35,6 +35,24 @@ std::string tinyModelsDir(const char* name) {
   return models;
 }
 
+/// Whether the real data's train split is there (a test that needs it skips with a message).
+bool haveTrainSplit(const std::string& data) {
+  if (file_test::exists(data + "/train/targets.csv")) return true;
+  WARN("TacTip data not found under " << data << ": skipping");
+  return false;
+}
+
+/// Options replaying the real train split through the tiny test GDN (no CNN, quiet).
+ReplayOptions tinyTrainReplay(const std::string& data, const std::string& models) {
+  ReplayOptions o;
+  o.data_dir = data;
+  o.split = "train";
+  o.models_dir = models;
+  o.verbose = false;
+  o.run_cnn = false;
+  return o;
+}
+
 /// Whether an SVG colour "#rrggbb" is saturated (max − min channel > 60): the markers' colours;
 /// frame, grid, labels and the diagonal are grey or black.
 bool saturated(const std::string& colour) {
@@ -297,25 +315,65 @@ TEST_CASE("replay: the report's caveat comes from the model card and the split",
   for (const char* split : {"train", "test", "session2"})
     CHECK(splitRole(card, split).find("validation") == std::string::npos);
   CHECK_THAT(splitRole(dir + "/missing.json", "val"), Catch::Matchers::Contains("cannot be read"));
-  // The shipped card: val is the early-stopping split.
-  CHECK_THAT(splitRole(std::string(LIESERVO_SOURCE_DIR) + "/examples/gdn/models/model_card.json", "val"),
-             Catch::Matchers::Contains("model selection"));
+  // A card trained on part of a split: the report says the numbers mix seen and unseen images.
+  const std::string part = dir + "/part.json";
+  std::ofstream(part) << R"J({"data": {"train": 4, "val": 2, "trained_on": {"train": 3, "val": 1},
+    "held_out": {"train": 1, "val": 1, "file": "part_held_out.csv"}}})J";
+  std::ofstream(dir + "/part_held_out.csv") << "split,sensor_image\ntrain,image_1.png\nval,image_2.png\n";
+  CHECK_THAT(splitRole(part, "val"), Catch::Matchers::Contains("trained on 1 of its images") &&
+                                         Catch::Matchers::Contains("mix trained-on and unseen"));
+  CHECK_THAT(splitRole(part, "session2"), Catch::Matchers::Contains("not listed"));
+  // The shipped cards: the reproduction model trained on all of train, and val is the
+  // early-stopping split of its CNN; the deployed model trained on most of both.
+  const std::string models = std::string(LIESERVO_SOURCE_DIR) + "/examples/gdn/models";
+  CHECK_THAT(splitRole(models + "/model_card.json", "val"), Catch::Matchers::Contains("model selection"));
+  CHECK_THAT(splitRole(models + "/model_card.json", "train"), Catch::Matchers::Contains("is what the network was trained on"));
+  CHECK_THAT(splitRole(models + "/train_val/model_card.json", "val"),
+             Catch::Matchers::Contains("trained on 1500 of its images (the other 500"));
+}
+
+TEST_CASE("replay: --unseen-only keeps the images the network did not train on", "[replay][data]") {
+  const std::string data = LIESERVO_DATA_DIR;
+  if (!haveTrainSplit(data)) return;
+  const std::string models = tinyModelsDir("replay_unseen");
+  ReplayOptions o = tinyTrainReplay(data, models);
+  o.unseen_only = true;
+  // The tiny card lists no training data: by convention its network saw all of train.
+  CHECK_THROWS_WITH(runReplay(o), Catch::Matchers::Contains("trained on every image"));
+  // A card that held two train images out: exactly those two are replayed, in file order.
+  const std::vector<Sample> rows = readTargets(data + "/train/targets.csv");
+  REQUIRE(rows.size() > 10);
+  std::string card;
+  {
+    std::ifstream in(models + "/model_card.json");
+    card.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const std::size_t brace = card.find('{');
+  REQUIRE(brace != std::string::npos);
+  card.insert(brace + 1, "\"data\": {\"train\": " + std::to_string(rows.size()) + ", \"trained_on\": {\"train\": " +
+                             std::to_string(rows.size() - 2) +
+                             "}, \"held_out\": {\"train\": 2, \"file\": \"held_out.csv\"}}, ");
+  std::ofstream(models + "/model_card.json") << card;
+  std::ofstream(models + "/held_out.csv") << "split,sensor_image\ntrain," << rows[7].image << "\ntrain," << rows[3].image
+                                          << "\n";
+  const ReplayResults r = runReplay(o);
+  CHECK(r.n == 2);
+  CHECK(r.unseen_of == static_cast<int>(rows.size()));
+  const std::string md = r.markdown(o, "lieservo_replay --split train --unseen-only");
+  CHECK(md.find("`--unseen-only`") != std::string::npos);
+  CHECK(md.find("the 2 of the " + std::to_string(rows.size()) + " images") != std::string::npos);
+  // A held-out list that does not match the card is refused, naming the list.
+  std::ofstream(models + "/held_out.csv") << "split,sensor_image\ntrain," << rows[7].image << "\n";
+  CHECK_THROWS_WITH(runReplay(o), Catch::Matchers::Contains("held_out.csv"));
+  file_test::removeTree(models);
 }
 
 TEST_CASE("replay: --split replays another split of the data", "[replay][data]") {
   const std::string data = LIESERVO_DATA_DIR;
-  if (!file_test::exists(data + "/train/targets.csv")) {
-    WARN("TacTip data not found under " << data << ": skipping");
-    return;
-  }
+  if (!haveTrainSplit(data)) return;
   const std::string models = tinyModelsDir("replay_split");
-  ReplayOptions o;
-  o.data_dir = data;
-  o.split = "train";
-  o.models_dir = models;
+  ReplayOptions o = tinyTrainReplay(data, models);
   o.quick = 20;
-  o.verbose = false;
-  o.run_cnn = false;
   const ReplayResults r = runReplay(o);
   CHECK(r.n == 20);
   const std::string md = r.markdown(o, "lieservo_replay --split train --quick 20");

@@ -1,8 +1,14 @@
-// GDN-like observation model: calibration to the per-component MAE, heteroscedasticity.
+// GDN-like observation model: calibration to the per-component MAE (from the paper or a model
+// card: the reproduction model's validation MAE, the deployed model's held-out MAE), heteroscedasticity.
 
 #include <catch2/catch.hpp>
 
+#include <fstream>
+#include <string>
+
 #include <lieservo/sampling/random.hpp>
+
+#include "file_test_util.hpp"
 
 #include "lieservo_sim/contact_model.hpp"
 #include "lieservo_sim/observation_model.hpp"
@@ -89,4 +95,34 @@ TEST_CASE("observation: calibration from the project's GDN model card", "[sim][o
   for (int i = 0; i < 6; ++i) CHECK(c.mae[i] > 0);
   CHECK(c.mae[3] < 0.2);  // converted to radians
   CHECK(c.source.find("model card") != std::string::npos);
+  // The reproduction model never saw val: its validation MAE. The deployed model (train + val):
+  // the MAE on the rows it held out, never the validation-set entry.
+  CHECK(c.source.find("validation set (n = 2000)") != std::string::npos);
+  const double shear_paper_model = c.mae[0];
+  const std::string deployed = std::string(LIESERVO_SOURCE_DIR) + "/examples/gdn/models/train_val/model_card.json";
+  REQUIRE(GdnCalibration::fromModelCard(deployed, c));
+  CHECK(c.source.find("held-out rows (n = 1000)") != std::string::npos);
+  CHECK(c.mae[0] != shear_paper_model);
+  CHECK(c.mae[0] == Approx(0.504).margin(0.001));  // data.held_out of the card: 500 train + 500 val rows
+}
+
+TEST_CASE("observation: a card without a measured MAE is refused, the calibration kept", "[sim][observation]") {
+  const std::string dir = file_test::makeTempDir("sim_card");
+  const std::string card = dir + "/model_card.json";
+  GdnCalibration c = GdnCalibration::paperTable1();
+  for (const char* text : {R"({"models": {"gdn": {}}})", R"({"models": {"gdn": {"held_out": {"mae": {"rho1_mm": 0.5}}}}})",
+                           R"({"models": {"gdn": {"validation": {"mae": {"rho1_mm": 0.5, "rho2_mm": 0.5, "rho3_mm": 0.1,
+                               "phi1_deg": 0.4, "phi2_deg": 0.5, "phi3_deg": -1}}}}})",
+                           "{not json"}) {
+    std::ofstream(card) << text;
+    INFO(text);
+    CHECK_FALSE(GdnCalibration::fromModelCard(card, c));
+    CHECK(c.mae[0] == Approx(0.426));
+  }
+  std::ofstream(card) << R"({"models": {"gdn": {"validation": {"n": 7, "mae": {"rho1_mm": 0.5, "rho2_mm": 0.5,
+      "rho3_mm": 0.1, "phi1_deg": 0.4, "phi2_deg": 0.5, "phi3_deg": 1.2}}}}})";
+  REQUIRE(GdnCalibration::fromModelCard(card, c));
+  CHECK(c.mae[3] == Approx(0.4 * kPi / 180));
+  CHECK(c.source.find("validation set (n = 7)") != std::string::npos);
+  file_test::removeTree(dir);
 }

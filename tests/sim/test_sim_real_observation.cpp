@@ -1,11 +1,14 @@
 // The `real` observation mode (examples/sim real_observation.hpp) against direct computations:
-// the k-d tree's nearest image is the brute-force nearest; at an image's own contact the
+// only images the card's network did not train on are used (the reproduction model: all of
+// val; the deployed model: the rows its card lists as held out); the k-d tree's nearest image
+// is the brute-force nearest; at an image's own contact the
 // observation is the GDN's output on that image, called directly through the OpenCV adapters;
 // elsewhere μ − ξ_true is that image's GDN error; bad set-up names what is missing.
 // Skipped with a message when the TacTip data or the exported GDN is absent.
 #include <catch2/catch.hpp>
 
 #include <fstream>
+#include <set>
 #include <string>
 
 #include <lieservo/sampling/random.hpp>
@@ -52,7 +55,7 @@ ContactState contactAt(const Vec6& e) {
 TEST_CASE("real observations: the k-d tree's nearest image is the brute-force nearest", "[sim][real]") {
   if (!available()) return;
   RealGdnObservations& real = shared();
-  REQUIRE(real.size() == 8000);  // 6000 train + 2000 val
+  REQUIRE(real.size() == 2000);  // the 2000 val images: the card's network trained on all of train
   // Brute force in the same scaled space: the scale is the labels' standard deviation.
   const std::size_t n = real.size();
   Vec6 mean = Vec6::Zero(), sq = Vec6::Zero();
@@ -81,7 +84,7 @@ TEST_CASE("real observations: at an image's contact the observation is the direc
       lieservo::adapters::PreprocessParams::fromJsonFile(kData + "/val/processed_image_params.json"));
   lieservo::adapters::OnnxPoseModel gdn =
       lieservo::adapters::OnnxPoseModel::fromCard(kCard, lieservo::adapters::ModelKind::gdn);
-  for (std::size_t i = 0; i < real.size(); i += 797) {
+  for (std::size_t i = 0; i < real.size(); i += 199) {
     INFO("image " << real.imagePath(i));
     cv::Mat image;
     REQUIRE(pre.loadProcessed(real.imagePath(i), image) == lieservo::Status::ok);
@@ -132,6 +135,34 @@ TEST_CASE("real observations: in the loop, tracking and following meet their cri
   CHECK(f.success);
   CHECK(f.ramp.reached_end);
   CHECK(f.dome_pooled.contact_kept);
+}
+
+TEST_CASE("real observations: only images the network did not train on", "[sim][real]") {
+  if (!available()) return;
+  for (std::size_t i = 0; i < shared().size(); ++i)
+    REQUIRE(shared().imagePath(i).find("/val/processed_images/") != std::string::npos);
+  // The deployed GDN (train + val): exactly the rows its card lists as held out.
+  const std::string models = std::string(LIESERVO_SOURCE_DIR) + "/examples/gdn/models/train_val";
+  if (!std::ifstream(models + "/model_card.json")) {
+    WARN("deployed GDN not exported (" << models << "): skipping");
+    return;
+  }
+  const RealGdnObservations deployed({kData, models + "/model_card.json", {"train", "val"}});
+  std::set<std::string> listed;
+  std::ifstream csv(models + "/held_out.csv");
+  std::string line;
+  std::getline(csv, line);  // header
+  while (std::getline(csv, line)) {
+    const std::size_t comma = line.find(',');
+    listed.insert(kData + "/" + line.substr(0, comma) + "/processed_images/" + line.substr(comma + 1));
+  }
+  REQUIRE(listed.size() == 1000);
+  REQUIRE(deployed.size() == listed.size());
+  for (std::size_t i = 0; i < deployed.size(); ++i) CHECK(listed.count(deployed.imagePath(i)) == 1);
+  CHECK_THAT(deployed.describe(), Contains("1000") && Contains("did not train on"));
+  // A card whose network saw every image it is offered leaves nothing to observe with.
+  CHECK_THROWS_WITH(RealGdnObservations({kData, kCard, {"train"}}),
+                    Contains("fewer than two") && Contains("6000 it did"));
 }
 
 TEST_CASE("real observations: set-up errors name what is missing", "[sim][real]") {

@@ -3,9 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <fstream>
-#include <sstream>
+#include <exception>
+
+#include <lieservo_dataset/json.hpp>
 
 namespace lieservo::sim {
 
@@ -23,31 +23,34 @@ GdnCalibration GdnCalibration::fromValues(const Vec6& m, std::string source) {
 }
 
 bool GdnCalibration::fromModelCard(const std::string& path, GdnCalibration& out) {
-  std::ifstream f(path);
-  if (!f) return false;
-  std::stringstream ss;
-  ss << f.rdbuf();
-  const std::string j = ss.str();
-  // Minimal extraction (no JSON dependency): models → gdn → validation → mae → six keys.
-  std::size_t pos = j.find("\"gdn\"");
-  if (pos == std::string::npos) return false;
-  pos = j.find("\"validation\"", pos);
-  if (pos == std::string::npos) return false;
-  pos = j.find("\"mae\"", pos);
-  if (pos == std::string::npos) return false;
-  const std::size_t end = j.find('}', pos);
+  // models.gdn.held_out.mae (a model trained on train + val: the rows it never saw), else
+  // models.gdn.validation.mae (a model trained on train only: the other recording session).
+  dataset::JsonDocument card;
+  try {
+    card = dataset::readJsonFile(path);
+  } catch (const std::exception&) {
+    return false;
+  }
+  const dataset::JsonValue* gdn = nullptr;
+  if (const dataset::JsonValue* models = card.root.isObject() ? card.root.find("models") : nullptr)
+    gdn = models->isObject() ? models->find("gdn") : nullptr;
+  if (gdn == nullptr || !gdn->isObject()) return false;
+  const char* measured_on = "held_out";
+  const dataset::JsonValue* set = gdn->find(measured_on);
+  if (set == nullptr) set = gdn->find(measured_on = "validation");
+  const dataset::JsonValue* mae = set != nullptr && set->isObject() ? set->find("mae") : nullptr;
+  if (mae == nullptr || !mae->isObject()) return false;
   const char* keys[6] = {"rho1_mm", "rho2_mm", "rho3_mm", "phi1_deg", "phi2_deg", "phi3_deg"};
   Vec6 m;
   for (int i = 0; i < 6; ++i) {
-    const std::size_t k = j.find(std::string("\"") + keys[i] + "\"", pos);
-    if (k == std::string::npos || k > end) return false;
-    const std::size_t colon = j.find(':', k);
-    if (colon == std::string::npos || colon > end) return false;
-    char* stop = nullptr;
-    m[i] = std::strtod(j.c_str() + colon + 1, &stop);
-    if (stop == j.c_str() + colon + 1 || !(std::isfinite(m[i]) && m[i] > 0)) return false;
+    const dataset::JsonValue* v = mae->find(keys[i]);
+    if (v == nullptr || !v->isNumber() || !(std::isfinite(v->number) && v->number > 0)) return false;
+    m[i] = v->number;
   }
-  out = fromValues(m, "project GDN model card (" + path + "), validation MAE");
+  const long n = set->find("n") != nullptr && set->find("n")->isNumber() ? long(set->find("n")->number) : 0;
+  out = fromValues(m, "project GDN model card (" + path + "), MAE on " +
+                          (std::string(measured_on) == "held_out" ? "its held-out rows" : "the validation set") +
+                          (n > 0 ? " (n = " + std::to_string(n) + ")" : std::string()));
   return true;
 }
 

@@ -11,6 +11,7 @@
 #include <lieservo_adapters/onnx_pose_model.hpp>
 #include <lieservo_adapters/preprocessing.hpp>
 #include <lieservo_dataset/dataset_reader.hpp>
+#include <lieservo_dataset/trained_on.hpp>
 
 namespace lieservo::sim {
 
@@ -42,6 +43,15 @@ RealGdnObservations::RealGdnObservations(const RealObservationOptions& o) : impl
   Impl& I = *impl_;
   if (o.data_dir.empty()) throw SceneError("real observations: data_dir is empty (the TacTip data set)");
   if (o.splits.empty()) throw SceneError("real observations: no splits given");
+  if (!fileExists(o.model_card)) throw SceneError("real observations: cannot read the model card " + o.model_card);
+  // Only images the network did not train on: their errors are what a new contact shows.
+  dataset::TrainedOn trained;
+  try {
+    trained = dataset::readTrainedOn(o.model_card);
+  } catch (const std::exception& e) {
+    throw SceneError(std::string("real observations: ") + e.what());
+  }
+  std::size_t skipped = 0;
   for (const std::string& split : o.splits) {
     if (split != "train" && split != "val")
       throw SceneError("real observations: split '" + split + "' (only the shared train and val sets may be used)");
@@ -55,6 +65,10 @@ RealGdnObservations::RealGdnObservations(const RealObservationOptions& o) : impl
       throw SceneError(std::string("real observations: ") + e.what());
     }
     for (const dataset::TargetRow& r : rows) {
+      if (trained.saw(split, r.sensor_image)) {
+        ++skipped;
+        continue;
+      }
       Vec6 e = r.euler6Degrees();
       e.tail<3>() *= kPi / 180;
       I.euler.push_back(e);
@@ -70,7 +84,9 @@ RealGdnObservations::RealGdnObservations(const RealObservationOptions& o) : impl
       }
     }
   }
-  if (I.euler.size() < 2) throw SceneError("real observations: fewer than two labelled images in " + o.data_dir);
+  if (I.euler.size() < 2)
+    throw SceneError("real observations: fewer than two labelled images in " + o.data_dir + " that the model of " +
+                     o.model_card + " did not train on (" + std::to_string(skipped) + " it did)");
   // Scale: each component's standard deviation over the data, so that a millimetre of depth
   // and a degree of tilt weigh by how much the data set varies them.
   const std::size_t n = I.euler.size();
@@ -86,13 +102,13 @@ RealGdnObservations::RealGdnObservations(const RealObservationOptions& o) : impl
   for (std::size_t i = 0; i < n; ++i) I.scaled.row(Eigen::Index(i)) = I.euler[i].cwiseQuotient(I.scale).transpose();
   I.tree = std::make_unique<Tree>(6, std::cref(I.scaled), 10);  // builds the index
   I.cache.resize(n);
-  if (!fileExists(o.model_card)) throw SceneError("real observations: cannot read the model card " + o.model_card);
   try {
     I.gdn.emplace(adapters::OnnxPoseModel::fromCard(o.model_card, adapters::ModelKind::gdn));
   } catch (const std::exception& e) {
     throw SceneError(std::string("real observations: ") + e.what());
   }
-  I.source = "the project's GDN on the nearest of " + std::to_string(n) + " labelled TacTip images (" + o.data_dir + ")";
+  I.source = "the project's GDN on the nearest of " + std::to_string(n) + " labelled TacTip images it did not train on (" +
+             o.data_dir + "; model card " + o.model_card + ")";
 }
 
 RealGdnObservations::~RealGdnObservations() = default;

@@ -15,8 +15,8 @@
 // distribution (|s| = 5√u mm, z ~ U[0.5, 6] mm, tilt within 25°, Section 3.1.2 (sec:data_collection)) equals
 // the calibration MAE_i:  E|σ ε| = σ·sqrt(2/π)  ⇒  σ̄_i = MAE_i · sqrt(π/2) / E[h_i],
 // with E[|s|/5] = 2/3, E[max(0, 1.5 − z)] = 1/11 mm, E[tilt term] = 0.
-// Source of MAE_i: the project's trained GDN, examples/gdn/models/model_card.json, validation
-// MAE (GdnCalibration::fromModelCard; the demo's default when the file exists), else the
+// Source of MAE_i: a GDN model card's measured MAE (GdnCalibration::fromModelCard; the demo
+// reads the deployed GDN's, examples/gdn/models/train_val/model_card.json, when it exists), else the
 // paper's Table 1 (tab:nn_pose_shear_estimate_results), GDN column (0.426, 0.422, 0.123 mm;
 // 0.45°, 0.64°, 1.16°; GdnCalibration::paperTable1, the default of TaskOptions and the tests).
 #pragma once
@@ -40,9 +40,11 @@ struct GdnCalibration {
   static GdnCalibration paperTable1();
   /// From per-component MAEs (mm ×3, then DEGREES ×3), e.g. a model card.
   static GdnCalibration fromValues(const Vec6& mae_mm_deg, std::string source);
-  /// From the project's GDN model card (examples/gdn/models/model_card.json): the validation
-  /// MAE of models.gdn.validation.mae (rho1_mm … phi3_deg).  Returns false (out unchanged)
-  /// if the file is missing or the six values cannot be read.
+  /// From a GDN model card (examples/gdn/export_onnx.py): the MAE measured on images the
+  /// network never saw, models.gdn.held_out.mae (a network trained on train + val: its held-out
+  /// rows) or else models.gdn.validation.mae (trained on train only: the val session), keys
+  /// rho1_mm … phi3_deg.  Returns false (out unchanged) if the file is missing or malformed or
+  /// the six values are not finite and > 0.
   static bool fromModelCard(const std::string& path, GdnCalibration& out);
   void validate() const;  ///< throws SceneError
 };

@@ -1,9 +1,12 @@
 // lieservo_sim/real_observation.hpp — the `real` observation mode: the project's GDN on real
 // TacTip images, in the simulated loop.
 //
-// For a simulated contact X_fs, the labelled image of the shared TacTip data (train and val
-// splits only) whose contact pose is nearest is looked up in a k-d tree (nanoflann) over the
-// labels (x, y, z, α, β, γ), each divided by its standard deviation over the data set. The
+// For a simulated contact X_fs, the labelled image whose contact pose is nearest is looked up
+// in a k-d tree (nanoflann) over the labels (x, y, z, α, β, γ), each divided by its standard
+// deviation over the images used. The images used are those of the shared TacTip data (train
+// and val splits only) that the model card says the network did not train on
+// (lieservo_dataset/trained_on.hpp): an error on a trained-on image is a fitting error, smaller
+// than what a new contact shows. The
 // ONNX GDN runs on that image through the OpenCV adapters (pre-processing, cv::dnn; its output
 // is cached per image), and the observation carries the GDN's error on the image over to the
 // simulated contact (ξ = log(X_sf)^∨, mm and rad):
@@ -36,9 +39,10 @@ struct RealObservationOptions {
 
 class RealGdnObservations final : public ObservationSource {
  public:
-  /// Reads the labels, builds the tree and loads the GDN. Throws SceneError naming what is
-  /// missing or malformed: the data set (RealObservationOptions::data_dir), a split's
-  /// targets.csv, the model card or its ONNX file.
+  /// Reads the labels of the images the card's network did not train on, builds the tree and
+  /// loads the GDN. Throws SceneError naming what is missing or malformed: the data set
+  /// (RealObservationOptions::data_dir), a split's targets.csv, the model card, its held-out
+  /// list or its ONNX file, or fewer than two unseen images.
   explicit RealGdnObservations(const RealObservationOptions& options);
   ~RealGdnObservations() override;
   RealGdnObservations(const RealGdnObservations&) = delete;

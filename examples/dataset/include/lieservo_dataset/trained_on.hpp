@@ -1,0 +1,111 @@
+// lieservo_dataset/trained_on.hpp — which images of the data set a model was trained on, as
+// its model card says (examples/gdn/export_onnx.py writes it). Header-only, no OpenCV.
+//
+// The card's "data" object:
+//   "train": 6000, "val": 2000                    images per split of the data set
+//   "trained_on": {"train": 5500, "val": 1500}    images of each split the network saw
+//   "held_out": {"train": 500, "val": 500, "file": "held_out.csv"}
+//                                                 the rows of those splits it did not see,
+//                                                 listed as split,sensor_image beside the card
+// A split missing from trained_on was not trained on. A card without trained_on (older cards,
+// other projects' cards) is read by the project's convention: the network saw all of `train`.
+//
+// Why it matters: an error measured on an image the network trained on is a fitting error,
+// not what a new contact will show. The simulation's `real` observations and the replay's
+// wording both use only this answer.
+#pragma once
+
+#include "lieservo_dataset/dataset_reader.hpp"
+#include "lieservo_dataset/json.hpp"
+
+#include <fstream>
+#include <map>
+#include <set>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace lieservo::dataset {
+
+struct TrainedOn {
+  bool listed = false;                      ///< the card has data.trained_on
+  std::map<std::string, long> images;       ///< split → images the network trained on
+  std::map<std::string, long> split_size;   ///< split → images in the split (data.<split>)
+  std::set<std::pair<std::string, std::string>> held_out;  ///< (split, sensor_image) never seen
+  std::string held_out_file;                ///< the list's path ("" if the card names none)
+
+  /// Did the network train on this image? A split trained on in part counts as seen except
+  /// for the rows the held-out list names (a split trained on in part with no list: all seen).
+  bool saw(const std::string& split, const std::string& sensor_image) const {
+    if (!listed) return split == "train";
+    const auto it = images.find(split);
+    if (it == images.end() || it->second <= 0) return false;
+    return held_out.count({split, sensor_image}) == 0;
+  }
+  /// Did it train on any image of this split?
+  bool sawSplit(const std::string& split) const {
+    if (!listed) return split == "train";
+    const auto it = images.find(split);
+    return it != images.end() && it->second > 0;
+  }
+  /// Did it train on every image of this split?
+  bool sawAll(const std::string& split) const {
+    if (!listed) return split == "train";
+    const auto it = images.find(split);
+    if (it == images.end() || it->second <= 0) return false;
+    const auto n = split_size.find(split);
+    return (n != split_size.end() && it->second >= n->second) || held_out.empty();
+  }
+};
+
+/// Reads the card at card_path. Throws DatasetError naming the file (and line:column) when the
+/// card or its held-out list cannot be read or is malformed.
+inline TrainedOn readTrainedOn(const std::string& card_path) {
+  const JsonDocument card = readJsonFile(card_path);
+  TrainedOn t;
+  const JsonValue* data = card.root.isObject() ? card.root.find("data") : nullptr;
+  if (data == nullptr || !data->isObject()) return t;
+  for (const JsonMember& m : data->object)
+    if (m.value.isNumber()) t.split_size[m.key] = static_cast<long>(m.value.number);
+  const JsonValue* trained = data->find("trained_on");
+  if (trained == nullptr) return t;
+  if (!trained->isObject()) card.fail(*trained, "data.trained_on must be an object {split: images}");
+  t.listed = true;
+  for (const JsonMember& m : trained->object) {
+    if (!m.value.isNumber() || !(m.value.number >= 0))
+      card.fail(m.value, "data.trained_on." + m.key + " must be a number >= 0");
+    t.images[m.key] = static_cast<long>(m.value.number);
+  }
+  const JsonValue* held = data->find("held_out");
+  if (held == nullptr) return t;
+  const JsonValue* file = held->isObject() ? held->find("file") : nullptr;
+  if (file == nullptr || !file->isString()) card.fail(*held, "data.held_out needs \"file\": the list of held-out rows");
+  const std::size_t slash = card_path.find_last_of('/');
+  t.held_out_file = (slash == std::string::npos ? std::string() : card_path.substr(0, slash + 1)) + file->string;
+  std::ifstream in(t.held_out_file);
+  if (!in) throw DatasetError(t.held_out_file + ": cannot read the held-out list named by " + card_path);
+  std::string line;
+  std::vector<std::string_view> fields;
+  std::vector<int> columns;
+  for (int n = 1; std::getline(in, line); ++n) {
+    detail::splitCsvLine(line, fields, columns);
+    if (fields.size() != 2)
+      throw DatasetError(t.held_out_file + ":" + std::to_string(n) + ":1: error: expected split,sensor_image");
+    const std::string split(detail::trimField(fields[0])), name(detail::trimField(fields[1]));
+    if (n == 1 && split == "split") continue;  // header
+    t.held_out.emplace(split, name);
+  }
+  // Each split's count in the card must match its list: a stale list would mislabel images.
+  for (const JsonMember& m : held->object) {
+    if (m.key == "file") continue;
+    long listed = 0;
+    for (const auto& row : t.held_out) listed += row.first == m.key ? 1 : 0;
+    if (!m.value.isNumber() || static_cast<long>(m.value.number) != listed)
+      card.fail(m.value, "data.held_out." + m.key + " does not match the " + std::to_string(listed) +
+                             " rows of that split in " + t.held_out_file);
+  }
+  return t;
+}
+
+}  // namespace lieservo::dataset
