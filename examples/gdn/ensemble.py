@@ -4,7 +4,7 @@
 unseen session". It only measures; nothing is tuned on the split.
 
     /usr/bin/python3 examples/gdn/ensemble.py models/gdn.onnx runs/gdn_wd runs/gdn_photometric \
-        [--split val] [--rows FILE] [--weights last]
+        [--split val] [--rows FILE] [--weights last] [--frame-time]
 
 A model is an exported .onnx file (run with cv2.dnn) or a train.py run directory (its
 gdn_<weights>.pt, run with PyTorch). --rows restricts the split to the rows listed in a file
@@ -18,7 +18,10 @@ component (mm, deg):
     epistemic parts); its MAE and the coverage of |error| <= σ (0.683 for a Gaussian);
   * the precision-weighted mean of the μ's (each model weighted by 1/σ²);
   * the slope and offset of a least-squares line of the ensemble's μ against the label: a slope
-    below 1 is the shrinkage toward zero of an estimate the image does not pin down.
+    below 1 is the shrinkage toward zero of an estimate the image does not pin down;
+  * with --frame-time, each .onnx model's time for one image through cv2.dnn (the OpenCV
+    backend the C++ adapter uses; median of 200 single-image forward passes, --threads
+    threads): what an ensemble of them costs per frame.
 """
 from __future__ import annotations
 
@@ -97,6 +100,7 @@ def main(argv=None) -> int:
     ap.add_argument('--weights', choices=['best', 'last'], default='last')
     ap.add_argument('--data', default=None)
     ap.add_argument('--threads', type=int, default=2)
+    ap.add_argument('--frame-time', action='store_true', help='time one image through each .onnx model')
     args = ap.parse_args(argv)
     torch.set_num_threads(args.threads)
 
@@ -131,6 +135,21 @@ def main(argv=None) -> int:
     slope, offset = line_fit(y, m)
     row('slope of mean on label', slope, '9.3f')
     row('offset', offset, '9.3f')
+    if args.frame_time:
+        import time
+        import cv2
+        cv2.setNumThreads(args.threads)
+        for model in (m for m in args.models if m.endswith('.onnx')):
+            net = cv2.dnn.readNetFromONNX(model)
+            one = np.ascontiguousarray(images[:1], dtype=np.float32)
+            times = []
+            for _ in range(220):
+                t0 = time.perf_counter()
+                net.setInput(one)
+                net.forward()
+                times.append(time.perf_counter() - t0)
+            print(f'one image through {model} (cv2.dnn, {args.threads} threads): '
+                  f'{1e3 * np.median(times[20:]):.2f} ms (median of 200)')
     return 0
 
 
