@@ -163,13 +163,10 @@ std::string splitRole(const std::string& card_path, const std::string& split) {
           if (es->isString()) stopping = es->string;
   if (trained.sawAll(split))
     return name + " is what the network was trained on: these numbers do not measure generalisation.";
-  if (trained.sawSplit(split)) {
-    long unseen = 0;
-    for (const auto& row : trained.held_out) unseen += row.first == split ? 1 : 0;
+  if (trained.sawSplit(split))
     return name + ": the network was trained on " + std::to_string(trained.images.at(split)) + " of its images (the other " +
-           std::to_string(unseen) + " are listed in " + trained.held_out_file +
+           std::to_string(trained.heldOutCount(split)) + " are listed in " + trained.held_out_file +
            "): these numbers mix trained-on and unseen images and do not measure generalisation.";
-  }
   if (listed == nullptr)
     return name + " is not listed in the model card's data: the network did not see it in training "
                   "(if the card is complete).";

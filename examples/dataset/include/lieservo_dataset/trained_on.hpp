@@ -18,6 +18,7 @@
 #include "lieservo_dataset/dataset_reader.hpp"
 #include "lieservo_dataset/json.hpp"
 
+#include <cstddef>
 #include <fstream>
 #include <map>
 #include <set>
@@ -31,32 +32,29 @@ namespace lieservo::dataset {
 struct TrainedOn {
   bool listed = false;                      ///< the card has data.trained_on
   std::map<std::string, long> images;       ///< split → images the network trained on
-  std::map<std::string, long> split_size;   ///< split → images in the split (data.<split>)
   std::set<std::pair<std::string, std::string>> held_out;  ///< (split, sensor_image) never seen
   std::string held_out_file;                ///< the list's path ("" if the card names none)
 
-  /// Did the network train on this image? A split trained on in part counts as seen except
-  /// for the rows the held-out list names (a split trained on in part with no list: all seen).
-  bool saw(const std::string& split, const std::string& sensor_image) const {
-    if (!listed) return split == "train";
-    const auto it = images.find(split);
-    if (it == images.end() || it->second <= 0) return false;
-    return held_out.count({split, sensor_image}) == 0;
-  }
   /// Did it train on any image of this split?
   bool sawSplit(const std::string& split) const {
     if (!listed) return split == "train";
     const auto it = images.find(split);
     return it != images.end() && it->second > 0;
   }
-  /// Did it train on every image of this split?
-  bool sawAll(const std::string& split) const {
-    if (!listed) return split == "train";
-    const auto it = images.find(split);
-    if (it == images.end() || it->second <= 0) return false;
-    const auto n = split_size.find(split);
-    return (n != split_size.end() && it->second >= n->second) || held_out.empty();
+  /// Did the network train on this image? A split trained on in part counts as seen except
+  /// for the rows the held-out list names (a split trained on in part with no list: all seen).
+  bool saw(const std::string& split, const std::string& sensor_image) const {
+    return sawSplit(split) && held_out.count({split, sensor_image}) == 0;
   }
+  /// Rows of this split the held-out list names (the images of a trained-on split it did not see).
+  std::size_t heldOutCount(const std::string& split) const {
+    std::size_t n = 0;
+    for (const auto& row : held_out) n += row.first == split ? 1 : 0;
+    return n;
+  }
+  /// Did it train on every image of this split (by saw(): a trained-on split none of whose rows
+  /// is held out)?
+  bool sawAll(const std::string& split) const { return sawSplit(split) && heldOutCount(split) == 0; }
 };
 
 /// Reads the card at card_path. Throws DatasetError naming the file (and line:column) when the
@@ -66,8 +64,6 @@ inline TrainedOn readTrainedOn(const std::string& card_path) {
   TrainedOn t;
   const JsonValue* data = card.root.isObject() ? card.root.find("data") : nullptr;
   if (data == nullptr || !data->isObject()) return t;
-  for (const JsonMember& m : data->object)
-    if (m.value.isNumber()) t.split_size[m.key] = static_cast<long>(m.value.number);
   const JsonValue* trained = data->find("trained_on");
   if (trained == nullptr) return t;
   if (!trained->isObject()) card.fail(*trained, "data.trained_on must be an object {split: images}");
