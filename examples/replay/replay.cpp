@@ -149,7 +149,7 @@ std::string splitRole(const std::string& card_path, const std::string& split) {
   dataset::TrainedOn trained;
   try {
     card = dataset::readJsonFile(card_path);
-    trained = dataset::readTrainedOn(card_path);
+    trained = dataset::trainedOn(card, card_path);
   } catch (const std::exception&) {
     return name + ": the model card cannot be read, so whether the network saw these images is unknown.";
   }

@@ -17,6 +17,8 @@
 #include <lieservo_sim/real_observation.hpp>
 #include <lieservo_sim/tasks.hpp>
 
+#include "file_test_util.hpp"
+
 using lieservo::sampling::uniform;
 using namespace lieservo::sim;
 using Catch::Matchers::Contains;
@@ -149,13 +151,8 @@ TEST_CASE("real observations: only images the network did not train on", "[sim][
   }
   const RealGdnObservations deployed({kData, models + "/model_card.json", {"train", "val"}});
   std::set<std::string> listed;
-  std::ifstream csv(models + "/held_out.csv");
-  std::string line;
-  std::getline(csv, line);  // header
-  while (std::getline(csv, line)) {
-    const std::size_t comma = line.find(',');
-    listed.insert(kData + "/" + line.substr(0, comma) + "/processed_images/" + line.substr(comma + 1));
-  }
+  const auto rows = file_test::readCsv(models + "/held_out.csv");  // split,sensor_image after a header
+  for (std::size_t r = 1; r < rows.size(); ++r) listed.insert(kData + "/" + rows[r].at(0) + "/processed_images/" + rows[r].at(1));
   REQUIRE(listed.size() == 1000);
   REQUIRE(deployed.size() == listed.size());
   for (std::size_t i = 0; i < deployed.size(); ++i) CHECK(listed.count(deployed.imagePath(i)) == 1);

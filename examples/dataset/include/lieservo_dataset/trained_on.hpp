@@ -57,10 +57,10 @@ struct TrainedOn {
   bool sawAll(const std::string& split) const { return sawSplit(split) && heldOutCount(split) == 0; }
 };
 
-/// Reads the card at card_path. Throws DatasetError naming the file (and line:column) when the
-/// card or its held-out list cannot be read or is malformed.
-inline TrainedOn readTrainedOn(const std::string& card_path) {
-  const JsonDocument card = readJsonFile(card_path);
+/// From a card already read from card_path (its held-out list is read from beside it). Throws
+/// DatasetError naming the file (and line:column) when the card's data or the list is malformed
+/// or the list cannot be read.
+inline TrainedOn trainedOn(const JsonDocument& card, const std::string& card_path) {
   TrainedOn t;
   const JsonValue* data = card.root.isObject() ? card.root.find("data") : nullptr;
   if (data == nullptr || !data->isObject()) return t;
@@ -103,5 +103,8 @@ inline TrainedOn readTrainedOn(const std::string& card_path) {
   }
   return t;
 }
+
+/// Reads the card at card_path; errors as trainedOn.
+inline TrainedOn readTrainedOn(const std::string& card_path) { return trainedOn(readJsonFile(card_path), card_path); }
 
 }  // namespace lieservo::dataset
