@@ -15,13 +15,13 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 def label(r):
     name = "closed form" if r["policy"] == "closed" else f"series N={r['order']}"
-    return name + (", information form" if r.get("form") == "information" else "")
+    return name + (", square-root form" if r.get("form") == "square_root" else "")
 
 
 def is_paper(r):
-    """The paper's configuration: series N = 2, 5 iterations, the default (square-root) form."""
+    """The paper's configuration: series N = 2, 5 iterations, the default (information) form."""
     return (r["policy"] == "series" and r["order"] == "2" and r["iterations"] == "5"
-            and r.get("form", "square_root") == "square_root")
+            and r.get("form", "information") == "information")
 
 
 def pareto(rows, key):
@@ -66,13 +66,13 @@ def main():
 
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.8), sharey=True)
     markers = {"series1": "v", "series2": "o", "series3": "s", "series4": "D", "closed-1": "*",
-               "series2information": "P", "closed-1information": "X"}
+               "series2square_root": "P", "closed-1square_root": "X"}
     for ax, scalar in zip(axes, ("double", "float")):
         rs = [r for r in rows if r["scalar"] == scalar]
         front = pareto(rs, key)
         for pol in markers:
             sel = [r for r in rs
-                   if r["policy"] + r["order"] + ("information" if r.get("form") == "information" else "") == pol]
+                   if r["policy"] + r["order"] + ("square_root" if r.get("form") == "square_root" else "") == pol]
             if not sel:
                 continue
             xs = [float(r["ns_median"]) for r in sel]

@@ -108,6 +108,17 @@ def gdn_nll(out: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
     return (0.5 * (s * (y - mu)) ** 2 - torch.log(s)).sum(dim=1).mean()
 
 
+def beta_nll(out: torch.Tensor, y: torch.Tensor, beta: float) -> torch.Tensor:
+    """The NLL of gdn_nll with each term weighted by sigma^(2 beta), the weight held constant in
+    the gradient (Seitzer et al. 2022, "On the pitfalls of heteroscedastic uncertainty
+    estimation"). The plain NLL pulls a mean by (y - mu) / sigma^2, so the images whose sigma is
+    large (shallow contacts) barely train the mean; beta = 1 gives every mean the squared-error
+    gradient, beta = 0 is gdn_nll."""
+    mu, s = out[:, :6], out[:, 6:]
+    w = s.detach() ** (-2.0 * beta)
+    return (w * (0.5 * (s * (y - mu)) ** 2 - torch.log(s))).sum(dim=1).mean()
+
+
 def weighted_mse(out: torch.Tensor, y: torch.Tensor, alpha: torch.Tensor) -> torch.Tensor:
     """Paper eq. 3 (eqn:mse_loss_def): mean_i sum_j alpha_j (y_ij - xi_ij)^2."""
     return (alpha * (y - out) ** 2).sum(dim=1).mean()

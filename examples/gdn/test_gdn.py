@@ -28,7 +28,7 @@ torch.set_num_threads(1)
 import labels as L  # noqa: E402
 from dataset import (DatasetError, default_data_dir, euler6_from_targets, load_image,  # noqa: E402
                      read_json, read_targets)
-from model import KERAS_BN, TORCH_BN, build, keras_init_, softbound, stable_softplus  # noqa: E402
+from model import KERAS_BN, TORCH_BN, beta_nll, build, gdn_nll, keras_init_, softbound, stable_softplus  # noqa: E402
 
 TESTS = []
 SKIPPED = []
@@ -396,6 +396,22 @@ def holdout_rows_per_session():
             assert False, bad
         except SystemExit:
             pass
+
+
+@test
+def beta_nll_weights_the_paper_nll():
+    """beta = 0 is the paper's NLL; beta = 1 pulls every mean by (mu - y), as a squared error."""
+    g = torch.Generator().manual_seed(3)
+    y = torch.randn(5, 6, generator=g)
+    mu = torch.randn(5, 6, generator=g)
+    s = 0.5 + torch.rand(5, 6, generator=g) * 4.0
+    out = torch.cat([mu, s], dim=1).requires_grad_(True)
+    assert torch.allclose(beta_nll(out, y, 0.0), gdn_nll(out, y))
+    beta_nll(out, y, 1.0).backward()
+    assert torch.allclose(out.grad[:, :6], (mu - y) / 5, atol=1e-6), out.grad[:, :6]
+    out.grad = None
+    beta_nll(out, y, 0.5).backward()
+    assert torch.allclose(out.grad[:, :6], s * (mu - y) / 5, atol=1e-6)
 
 
 @test

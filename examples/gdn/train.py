@@ -29,7 +29,7 @@ sys.path.insert(0, HERE)
 from augment import PRESETS as AUGMENT_PRESETS, augment  # noqa: E402
 from dataset import default_data_dir, load_split  # noqa: E402
 import labels as L  # noqa: E402
-from model import CNN_ALPHA_DEG, KERAS_BN, TORCH_BN, build, gdn_nll, keras_init_, weighted_mse  # noqa: E402
+from model import CNN_ALPHA_DEG, KERAS_BN, TORCH_BN, beta_nll, build, gdn_nll, keras_init_, weighted_mse  # noqa: E402
 
 COMP = ['rho1_mm', 'rho2_mm', 'rho3_mm', 'phi1_deg', 'phi2_deg', 'phi3_deg']
 
@@ -124,6 +124,8 @@ def main(argv=None):
                     help='training-image augmentation preset (augment.py); none = the paper')
     ap.add_argument('--weight-decay', type=float, default=0.0,
                     help='decoupled weight decay (AdamW) per unit learning rate; 0 = Adam, as the paper')
+    ap.add_argument('--beta-nll', type=float, default=0.0,
+                    help='GDN training loss: NLL terms weighted by sigma^(2 beta) (0: the paper\'s NLL)')
     ap.add_argument('--threads', type=int, default=1)
     ap.add_argument('--seed', type=int, default=0)
     ap.add_argument('--out', required=True, help='run directory (checkpoints, history)')
@@ -151,6 +153,8 @@ def main(argv=None):
     sessions = [v for v in args.sessions.split(',') if v]
     if not sessions or len(set(sessions)) != len(sessions) or any(v not in ('train', 'val') for v in sessions):
         raise SystemExit(f'--sessions {args.sessions}: a list of distinct splits from train, val')
+    if not (0.0 <= args.beta_nll <= 1.0) or (args.beta_nll and args.model != 'gdn'):
+        raise SystemExit(f'--beta-nll {args.beta_nll}: a GDN option between 0 and 1')
     if 'val' in sessions and not args.holdout:
         raise SystemExit('--sessions with val needs --holdout N: the held-out rows are the monitored set')
 
@@ -197,7 +201,7 @@ def main(argv=None):
     print(f'model={args.model} channels={channels} params={n_par} train={n} val={len(Xva)} '
           f'batch={args.batch} steps/epoch={steps} e_max={e_max} threads={args.threads} '
           f'seed={args.seed} bn={args.bn}{tuple(bn)} init={args.init} adam_eps={args.adam_eps:g} '
-          f'holdout={args.holdout} augment={args.augment} weight_decay={args.weight_decay:g} sessions={"+".join(sessions)} '
+          f'holdout={args.holdout} augment={args.augment} weight_decay={args.weight_decay:g} beta_nll={args.beta_nll:g} sessions={"+".join(sessions)} '
           f'monitor={monitor}', flush=True)
 
     hist = []
@@ -231,7 +235,10 @@ def main(argv=None):
                 g['lr'] = lr
             xb = Xtr[idx] if aug is None else augment(Xtr[idx], aug, aug_gen)
             out = model(xb)
-            loss = gdn_nll(out, Ytr[idx]) if args.model == 'gdn' else weighted_mse(out, Ytr[idx], alpha)
+            if args.model == 'cnn':
+                loss = weighted_mse(out, Ytr[idx], alpha)
+            else:
+                loss = beta_nll(out, Ytr[idx], args.beta_nll) if args.beta_nll else gdn_nll(out, Ytr[idx])
             opt.zero_grad(set_to_none=True)
             loss.backward()
             opt.step()

@@ -11,9 +11,11 @@
 //     cov. error  = max over pairs of ‖Σ − Σ_ref‖_F / ‖Σ_ref‖_F.
 // A second table repeats this for wide factors (σ 1–5 mm, 2–10°), where the truncation matters.
 // Note B_3 = 0, so the series of order 3 equals the series of order 2.
-// A third table compares the information form (FusionOptions::form) with the default
+// A third table compares the information form (FusionOptions::form, the default) with the
 // square-root form as the factors' conditioning worsens: covariances Q diag(v) Qᵀ with random
-// rotations Q and variances v log-uniform in [1/s, s], s = 1e2 … 1e12.
+// rotations Q and variances v log-uniform in [1/s, s], s = 1e2 … 1e12. The information form
+// hands a call whose information matrix is too ill-conditioned for its explicit inverse to the
+// square-root form, so from some spread on its results are the square-root form's exactly.
 //
 // Run: <build>/examples/worked/lieservo_fusion_error_table   (output in docs/estimation.md)
 #include <cmath>
@@ -119,16 +121,17 @@ bool table(const char* title, double t_lo, double t_hi, double r_lo, double r_hi
 }
 
 /// Information form against the square-root form (paper policy, 5 iterations) as the
-/// variance spread s grows: how many pairs fuse() refuses in each form, and the largest
-/// difference where both succeed (mean: Mahalanobis under the square-root Σ; covariance:
-/// relative Frobenius; the larger of the two).
+/// variance spread s grows: how many pairs fuse() refuses in each form, how many results are
+/// bitwise the same (the information form handed the call to the square-root form), and the
+/// largest difference where both succeed (mean: Mahalanobis under the square-root Σ;
+/// covariance: relative Frobenius; the larger of the two).
 void formTable(int pairs) {
   std::printf("\nInformation vs square-root form (paper policy, 5 iterations), %d pairs per row\n", pairs);
-  std::printf("| variance spread | refused: square-root | refused: information | largest difference |\n");
-  std::printf("|---|---|---|---|\n");
+  std::printf("| variance spread | refused: square-root | refused: information | identical results | largest difference |\n");
+  std::printf("|---|---|---|---|---|\n");
   sampling::Rng rng(3);
   for (double spread : {1e2, 1e4, 1e6, 1e8, 1e10, 1e12}) {
-    int refused_sqrt = 0, refused_info = 0;
+    int refused_sqrt = 0, refused_info = 0, identical = 0;
     double worst = 0;
     for (int t = 0; t < pairs; ++t) {
       ConcentratedGaussian<G> f[2];
@@ -143,6 +146,7 @@ void formTable(int pairs) {
         x.mean = G::exp(1e-3 * sampling::standardNormalVector<6>(rng));
       }
       FusionOptions<double> square_root, information;
+      square_root.form = FusionForm::square_root;
       information.form = FusionForm::information;
       FusionResult<G> ra, rb;
       const bool a = fuse(f[0], f[1], square_root, ra) == Status::ok;
@@ -150,14 +154,15 @@ void formTable(int pairs) {
       refused_sqrt += !a;
       refused_info += !b;
       if (a && b) {
+        identical += ra.fused.mean.matrix() == rb.fused.mean.matrix() && ra.fused.covariance == rb.fused.covariance;
         const Tangent e = lminus(rb.fused.mean, ra.fused.mean);
         const double mean = std::sqrt(e.dot(ra.fused.covariance.ldlt().solve(e)));
         const double cov = (rb.fused.covariance - ra.fused.covariance).norm() / ra.fused.covariance.norm();
         worst = std::max(worst, std::max(mean, cov));
       }
     }
-    std::printf("| 1e-%.0f .. 1e%.0f | %d | %d | %.1e |\n", std::log10(spread), std::log10(spread), refused_sqrt,
-                refused_info, worst);
+    std::printf("| 1e-%.0f .. 1e%.0f | %d | %d | %d | %.1e |\n", std::log10(spread), std::log10(spread), refused_sqrt,
+                refused_info, identical, worst);
   }
 }
 

@@ -42,9 +42,9 @@ void runAllocationFreeSteps(int steps) {
     DiscriminativeBayesFilter<G> filter(opt);
     DiscriminativeBayesFilter<G, ClosedFormJacobian> filter_cf(
         typename DiscriminativeBayesFilter<G, ClosedFormJacobian>::Options{});
-    typename DiscriminativeBayesFilter<G>::Options opt_info;  // the information form
-    opt_info.fusion.form = FusionForm::information;
-    DiscriminativeBayesFilter<G> filter_info(opt_info);
+    typename DiscriminativeBayesFilter<G>::Options opt_sqrt;  // the square-root form
+    opt_sqrt.fusion.form = FusionForm::square_root;
+    DiscriminativeBayesFilter<G> filter_sqrt(opt_sqrt);
     long ok = 0;
     long allocations = -1;
     {
@@ -53,13 +53,13 @@ void runAllocationFreeSteps(int steps) {
       (void)fromTangentGaussian(mus[0], sigmas[0], obs);
       (void)filter.step(poses[0], obs);  // initialisation
       (void)filter_cf.step(poses[0], obs);
-      (void)filter_info.step(poses[0], obs);
+      (void)filter_sqrt.step(poses[0], obs);
       for (int k = 1; k < steps; ++k) {
         (void)fromTangentGaussian(mus[size_t(k)], sigmas[size_t(k)], obs);
         const Status s = filter.step(poses[size_t(k)], obs);
         ok += (s == Status::ok || s == Status::outlier_rejected);
         ok += (filter_cf.step(poses[size_t(k)], obs) == Status::ok);
-        ok += (filter_info.step(poses[size_t(k)], obs) == Status::ok);
+        ok += (filter_sqrt.step(poses[size_t(k)], obs) == Status::ok);
         if (k % 100 == 0) (void)filter.step(poses[size_t(k)], bad);  // error path
       }
       // N-ary fusion, tolerance mode, NIS, transform, mahalanobis.

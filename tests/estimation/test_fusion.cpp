@@ -37,6 +37,13 @@ FusionResult<G> fuseConverged(const ConcentratedGaussian<G>& a, const Concentrat
   return r;
 }
 
+/// Default fusion options with the given form (the paper's 5 iterations, tolerance 0).
+FusionOptions<double> withForm(FusionForm form) {
+  FusionOptions<double> o;
+  o.form = form;
+  return o;
+}
+
 /// The Bernoulli series Σ_{n≤N} B_n/n! ad^n written out independently of the core.
 template <class G>
 typename G::Jacobian manualInverseSeries(const typename G::Tangent& xi, int N) {
@@ -727,8 +734,8 @@ TEST_CASE("fusion: the information form agrees with the square-root form on real
   // the square-root form's Σ) and the covariances by at most 1e-9 relative (Frobenius).
   using G = SE3d;
   lieservo::sampling::Rng rng(20261125);
-  FusionOptions<double> sqrt_form, info_form;
-  info_form.form = FusionForm::information;
+  const FusionOptions<double> sqrt_form = withForm(FusionForm::square_root);
+  const FusionOptions<double> info_form = withForm(FusionForm::information);
   const long n = test::scaledCount(100000, 10000);
   double worst_mean = 0, worst_cov = 0;
   int failures = 0;
@@ -752,6 +759,133 @@ TEST_CASE("fusion: the information form agrees with the square-root form on real
   CHECK(failures == 0);
   CHECK(worst_mean <= 1e-9);
   CHECK(worst_cov <= 1e-9);
+}
+
+template <int N>
+void checkSpdInverse(lieservo::sampling::Rng& rng, long samples, double& worst, long& refused) {
+  using M = Eigen::Matrix<double, N, N>;
+  using ML = Eigen::Matrix<long double, N, N>;
+  for (long t = 0; t < samples; ++t) {
+    // Eigenvalues over 0.1..10 in a random basis, then a random diagonal scaling over
+    // 1e-6..1e6 (mm against rad, σ from 1e-3 to 1e3): equilibration must undo the scaling.
+    const M Q = randomOrthogonal<N>(rng);
+    Eigen::Matrix<double, N, 1> ev, sc;
+    for (int i = 0; i < N; ++i) {
+      ev[i] = std::pow(10.0, uniform(rng, -1.0, 1.0));
+      sc[i] = std::pow(10.0, uniform(rng, -6.0, 6.0));
+    }
+    M H = sc.asDiagonal() * (Q * ev.asDiagonal() * Q.transpose()) * sc.asDiagonal();
+    H = (0.5 * (H + H.transpose())).eval();
+    M Hinv = M::Constant(-1.0);
+    if (!detail::spdInverse(H, Hinv)) {
+      ++refused;
+      CHECK(Hinv == M::Constant(-1.0));  // untouched
+      continue;
+    }
+    const ML ref = H.template cast<long double>().llt().solve(ML::Identity());
+    // Elementwise error relative to the diagonal scale √(H⁻¹_ii H⁻¹_jj), which equilibration
+    // makes the natural unit of each entry.
+    for (int i = 0; i < N; ++i)
+      for (int j = 0; j < N; ++j) {
+        const long double unit = std::sqrt(ref(i, i) * ref(j, j));
+        worst = std::max(worst, double(std::abs(Hinv(i, j) - ref(i, j)) / unit));
+      }
+  }
+}
+
+TEST_CASE("fusion: the information form's block inverse", "[estimation][linalg]") {
+  // Criterion (set before the run): over 10⁵ seeded SPD matrices per size (1, 3, 6) with
+  // eigenvalues in 0.1..10 in a random basis and a diagonal scaling over 1e±6 on top (so the
+  // equilibrated matrix has eigenvalues ≥ 0.01 and the trace of its inverse is ≤ 600, inside
+  // the limit), spdInverse succeeds for every one and agrees with a long-double Cholesky
+  // inverse to 1e-12 in units of √(H⁻¹_ii H⁻¹_jj); it refuses, leaving its output untouched,
+  // matrices it cannot invert accurately (condition number 1e12), non-positive, non-finite or
+  // indefinite ones.
+  lieservo::sampling::Rng rng(20261124);
+  const long n = test::scaledCount(100000, 10000);
+  double worst = 0.0;
+  long refused = 0;
+  checkSpdInverse<1>(rng, n, worst, refused);
+  checkSpdInverse<3>(rng, n, worst, refused);
+  checkSpdInverse<6>(rng, n, worst, refused);
+  std::printf("[fusion] spdInverse over 3 x %ld matrices: worst error %.2e, refused %ld\n", n, worst, refused);
+  CHECK(refused == 0);
+  CHECK(worst <= 1e-12);
+
+  using M6 = Eigen::Matrix<double, 6, 6>;
+  for (int t = 0; t < 100; ++t) {
+    const M6 Q = randomOrthogonal<6>(rng);
+    Eigen::Matrix<double, 6, 1> ev;
+    ev << 1e6, 1, 1, 1, 1, 1e-6;
+    const M6 H = Q * ev.asDiagonal() * Q.transpose();
+    M6 Hinv = M6::Constant(-1.0);
+    CHECK_FALSE(detail::spdInverse(H, Hinv));
+    CHECK(Hinv == M6::Constant(-1.0));
+  }
+  M6 H = M6::Identity();
+  M6 Hinv = M6::Constant(-1.0);
+  H(2, 2) = 0.0;
+  CHECK_FALSE(detail::spdInverse(H, Hinv));
+  H(2, 2) = -1.0;
+  CHECK_FALSE(detail::spdInverse(H, Hinv));
+  H(2, 2) = std::numeric_limits<double>::infinity();
+  CHECK_FALSE(detail::spdInverse(H, Hinv));
+  H(2, 2) = 1.0;
+  H(4, 1) = H(1, 4) = std::numeric_limits<double>::quiet_NaN();
+  CHECK_FALSE(detail::spdInverse(H, Hinv));
+  H(4, 1) = H(1, 4) = 2.0;  // indefinite
+  CHECK_FALSE(detail::spdInverse(H, Hinv));
+  CHECK(Hinv == M6::Constant(-1.0));
+}
+
+TEST_CASE("fusion: the information form hands ill-conditioned factors to the square-root form",
+          "[estimation][fusion][hard]") {
+  // Criterion (set before the run): factors whose covariances have eigenvalues 1e-8..1e8 in a
+  // random basis (far beyond the explicit inverse's limit) give, in the information form,
+  // exactly the square-root form's result (bitwise), for both policies; realistic factors do
+  // not (the information form is used: the results differ at rounding level somewhere).
+  using G = SE3d;
+  lieservo::sampling::Rng rng(20261126);
+  const FusionOptions<double> sqrt_form = withForm(FusionForm::square_root);
+  const FusionOptions<double> info_form = withForm(FusionForm::information);
+  for (int t = 0; t < 200; ++t) {
+    ConcentratedGaussian<G> f[2];
+    for (auto& x : f) {
+      const Eigen::Matrix<double, 6, 6> Q = randomOrthogonal<6>(rng);
+      Eigen::Matrix<double, 6, 1> ev;
+      for (int i = 0; i < 6; ++i) ev[i] = std::pow(10.0, uniform(rng, -8.0, 8.0));
+      ev[0] = 1e-8;
+      ev[5] = 1e8;
+      x.covariance = Q * ev.asDiagonal() * Q.transpose();
+      x.covariance = (0.5 * (x.covariance + x.covariance.transpose())).eval();
+      x.mean = G::exp(randn<G::Tangent>(rng, 0.1));
+    }
+    FusionResult<G> rs, ri;
+    const bool closed = t % 2 == 1;
+    const Status ss = closed ? fuse<ClosedFormJacobian>(f[0], f[1], sqrt_form, rs) : fuse(f[0], f[1], sqrt_form, rs);
+    const Status si = closed ? fuse<ClosedFormJacobian>(f[0], f[1], info_form, ri) : fuse(f[0], f[1], info_form, ri);
+    REQUIRE(si == ss);
+    if (ss != Status::ok) continue;
+    CHECK(ri.fused.mean.matrix() == rs.fused.mean.matrix());
+    CHECK(ri.fused.covariance == rs.fused.covariance);
+    CHECK(ri.iterations == rs.iterations);
+  }
+  int differ = 0;
+  for (int t = 0; t < 100; ++t) {
+    const G centre = G::exp(randn<G::Tangent>(rng, 1.0));
+    const auto a = randomFactor(rng, centre, realisticSigma<G>(rng));
+    const auto b = randomFactor(rng, centre, realisticSigma<G>(rng));
+    FusionResult<G> rs, ri;
+    REQUIRE(fuse(a, b, sqrt_form, rs) == Status::ok);
+    REQUIRE(fuse(a, b, info_form, ri) == Status::ok);
+    differ += ri.fused.covariance != rs.fused.covariance;
+  }
+  CHECK(differ > 0);
+}
+
+TEST_CASE("fusion: the information form is the default", "[estimation][fusion]") {
+  CHECK(FusionOptions<double>{}.form == FusionForm::information);
+  CHECK(FusionOptions<float>{}.form == FusionForm::information);
 }
 
 TEST_CASE("fusion: an unknown form is refused", "[estimation][fusion]") {

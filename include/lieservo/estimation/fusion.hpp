@@ -10,21 +10,27 @@
 //              X̄  ← exp(μ^) X̄                                 (eq. 54, eqn:se3_normalised_prod_update)
 //     return (X̄, Σ)
 //
-// Numerics (docs/estimation.md): square-root information form. Each Σ_i is Cholesky-factorised
-// ONCE per call (Σ_i = L_i L_iᵀ, after an equilibrating diagonal scaling) and L_i⁻¹ formed once
-// (triangular). Per iteration the whitened factor rows A_i = L_i⁻¹ J_i⁻¹ and b_i = L_i⁻¹ ξ_i are
-// obtained by products,
-// stacked and reduced by Householder reflections to an upper-triangular R with RᵀR = Σ_i A_iᵀA_i
-// (the information matrix, never formed explicitly) and c = Qᵀb, so μ = −R⁻¹c and
-// Σ = R⁻¹R⁻ᵀ. This avoids squaring the condition number (covariance eigenvalues anywhere in
-// [1e-12, 1e12] stay representable), is allocation-free (fixed-size storage for up to
-// kMaxFusionFactors factors) and the result is symmetrised and checked to be SPD (a
-// rounding-level loss of definiteness is repaired by a relative diagonal load of 1024 eps).
+// Numerics (docs/estimation.md). Each Σ_i is Cholesky-factorised ONCE per call (Σ_i = L_i L_iᵀ,
+// after an equilibrating diagonal scaling) and L_i⁻¹ formed once (triangular). Per iteration
+// the whitened factor rows are A_i = L_i⁻¹ J_i⁻¹ and b_i = L_i⁻¹ ξ_i (products), so that
+// H = Σ_i A_iᵀA_i is the information matrix and g = Σ_i A_iᵀb_i. Two forms solve H μ = −g:
 //
-// FusionForm::information instead forms the information matrix H = Σ_i A_iᵀA_i and its
-// Cholesky factor each iteration: fewer flops than the Householder reduction, but measured no
-// faster (docs/performance.md), and H's condition number is the square of R's, so it loses
-// accuracy on ill-conditioned factors (docs/estimation.md). The square-root form is the default.
+// FusionForm::information (default): H and g are formed and H is inverted explicitly, by 3×3
+// blocks after a diagonal equilibration (detail::spdInverse): two divisions in the chain, where
+// a factorisation waits on six square roots and six divisions in turn, and the last iteration's
+// H⁻¹ is Σ*. H's condition number is the square of the square-root form's, so the explicit
+// inverse is used only while the equilibrated H is well conditioned (trace of its inverse
+// ≤ informationTraceLimit(): condition number ≤ 6000 for SE(3)); otherwise the whole call is
+// handed to the square-root form, and the result is exactly that form's.
+//
+// FusionForm::square_root: the rows [A_i | b_i] are stacked and reduced by Householder
+// reflections to an upper-triangular R with RᵀR = H (never formed) and c = Qᵀb, so μ = −R⁻¹c
+// and Σ* = R⁻¹R⁻ᵀ. The condition number is never squared (covariance eigenvalues anywhere in
+// [1e-12, 1e12] stay representable).
+//
+// Both are allocation-free (fixed-size storage for up to kMaxFusionFactors factors), and the
+// result is symmetrised and checked to be SPD (a rounding-level loss of definiteness is
+// repaired by a relative diagonal load of 1024 eps).
 #pragma once
 
 #include <cmath>
@@ -42,8 +48,11 @@ namespace lieservo {
 
 /// How fuse() solves each iteration's normal equations (see the file comment).
 enum class FusionForm {
-  square_root,  ///< default: whitened rows reduced by Householder; condition number not squared
-  information,  ///< H = Σ A_iᵀA_i formed and Cholesky-factorised; squares the condition number
+  /// Whitened rows reduced by Householder reflections; the condition number is not squared.
+  square_root,
+  /// H = Σ A_iᵀA_i formed and inverted by blocks while it is well conditioned, the square-root
+  /// form otherwise (the default: faster, and as accurate where it matters).
+  information,
 };
 
 /// Iteration control of fuse().
@@ -55,8 +64,9 @@ struct FusionOptions {
   /// If > 0: stop as soon as the step norm ‖μ‖₂ of an update falls below it; if that never
   /// happens within max_iterations, fuse() returns Status::not_converged. Must be finite, ≥ 0.
   Scalar tolerance = Scalar(0);
-  /// Square-root (default) or information form of each iteration's solve.
-  FusionForm form = FusionForm::square_root;
+  /// Information (default, with its fall-back to the square-root form) or square-root form of
+  /// each iteration's solve.
+  FusionForm form = FusionForm::information;
 };
 
 /// Whether `o` is a valid FusionOptions: max_iterations ≥ 1, tolerance finite and ≥ 0, form one
@@ -171,6 +181,92 @@ struct SqrtInformation {
   auto c() const noexcept { return M.template block<D, 1>(0, D); }
 };
 
+/// (det, adj) of a 3×3 matrix: adj·M = det·I. Cofactors, so the inverse costs one division.
+template <class Scalar>
+Scalar adjugate3(const Eigen::Matrix<Scalar, 3, 3>& M, Eigen::Matrix<Scalar, 3, 3>& adj) noexcept {
+  adj(0, 0) = M(1, 1) * M(2, 2) - M(1, 2) * M(2, 1);
+  adj(0, 1) = M(0, 2) * M(2, 1) - M(0, 1) * M(2, 2);
+  adj(0, 2) = M(0, 1) * M(1, 2) - M(0, 2) * M(1, 1);
+  adj(1, 0) = M(1, 2) * M(2, 0) - M(1, 0) * M(2, 2);
+  adj(1, 1) = M(0, 0) * M(2, 2) - M(0, 2) * M(2, 0);
+  adj(1, 2) = M(0, 2) * M(1, 0) - M(0, 0) * M(1, 2);
+  adj(2, 0) = M(1, 0) * M(2, 1) - M(1, 1) * M(2, 0);
+  adj(2, 1) = M(0, 1) * M(2, 0) - M(0, 0) * M(2, 1);
+  adj(2, 2) = M(0, 0) * M(1, 1) - M(0, 1) * M(1, 0);
+  return M(0, 0) * adj(0, 0) + M(0, 1) * adj(1, 0) + M(0, 2) * adj(2, 0);
+}
+
+/// Largest accepted trace of He⁻¹, the inverse of the equilibrated information matrix (unit
+/// diagonal), in FusionForm::information. He's eigenvalues are at most DoF, so its condition
+/// number is at most DoF · 1000 (6000 for SE(3)): the explicit inverse then loses at most about
+/// 6000 eps relative, within a factor 80 (√6000) of the square-root form's bound. Beyond it
+/// fuseFactored hands the call to the square-root form. Realistic factors (the benchmark's:
+/// σ 0.1–1 mm, 0.5–2°) give traces of 6.0–7.0.
+template <class Scalar>
+Scalar informationTraceLimit() noexcept {
+  return Scalar(1000);
+}
+
+/// The inverse of an equilibrated SPD 6×6 matrix He (unit diagonal) by 3×3 blocks (Schur
+/// complement):
+///     He = [[A, B], [Bᵀ, C]],  K = A⁻¹B,  S = C − BᵀK,
+///     He⁻¹ = [[A⁻¹ + K S⁻¹ Kᵀ, −K S⁻¹], [−S⁻¹ Kᵀ, S⁻¹]].
+/// Two divisions in the whole chain, where a Cholesky factorisation or a Householder reduction
+/// waits on six square roots and six divisions one after another. false when a block
+/// determinant is not positive.
+template <class Scalar>
+bool spdInverseBlocks(const Eigen::Matrix<Scalar, 6, 6>& He, Eigen::Matrix<Scalar, 6, 6>& E) noexcept {
+  using M3 = Eigen::Matrix<Scalar, 3, 3>;
+  const M3 A = He.template topLeftCorner<3, 3>();
+  const M3 B = He.template topRightCorner<3, 3>();
+  M3 adjA;
+  const Scalar detA = adjugate3(A, adjA);
+  if (!(detA > Scalar(0))) return false;
+  const M3 Ai = adjA * (Scalar(1) / detA);
+  const M3 K = Ai * B;
+  const M3 S = He.template bottomRightCorner<3, 3>() - B.transpose() * K;
+  M3 adjS;
+  const Scalar detS = adjugate3(S, adjS);
+  if (!(detS > Scalar(0))) return false;
+  const M3 Si = adjS * (Scalar(1) / detS);
+  const M3 KSi = K * Si;
+  E.template topLeftCorner<3, 3>() = Ai + KSi * K.transpose();
+  E.template topRightCorner<3, 3>() = -KSi;
+  E.template bottomLeftCorner<3, 3>() = -KSi.transpose();
+  E.template bottomRightCorner<3, 3>() = Si;
+  return true;
+}
+
+/// H⁻¹ of an SPD information matrix H (DoF 1–4 or 6), after the diagonal equilibration
+/// He = D H D, D = diag(H_ii)^−½, H⁻¹ = D He⁻¹ D: 6×6 by spdInverseBlocks, smaller sizes by
+/// cofactors (Eigen's fixed-size inverse). Returns false (Hinv unwritten) unless H's diagonal is
+/// positive and finite, the determinants are positive and trace(He⁻¹) ≤
+/// informationTraceLimit().
+template <class Mat>
+bool spdInverse(const Mat& H, Mat& Hinv) noexcept {
+  using Scalar = typename Mat::Scalar;
+  constexpr int n = Mat::RowsAtCompileTime;
+  Eigen::Matrix<Scalar, n, 1> d;
+  for (int i = 0; i < n; ++i) {
+    if (!(H(i, i) > Scalar(0)) || !std::isfinite(H(i, i))) return false;
+    d(i) = Scalar(1) / std::sqrt(H(i, i));
+  }
+  const Mat He = d.asDiagonal() * H * d.asDiagonal();
+  Mat E;
+  if constexpr (n == 6) {
+    if (!spdInverseBlocks(He, E)) return false;
+  } else {
+    static_assert(n <= 4, "spdInverse: sizes 1-4 and 6");
+    const Scalar det = He.determinant();
+    if (!(det > Scalar(0))) return false;
+    E = He.inverse();
+  }
+  const Scalar tr = E.trace();
+  if (!(tr <= informationTraceLimit<Scalar>())) return false;  // also catches NaN
+  Hinv = d.asDiagonal() * E * d.asDiagonal();
+  return true;
+}
+
 }  // namespace detail
 
 /// Normalised innovation squared of an observation against a prior (both concentrated
@@ -233,7 +329,7 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
   Jacobian H = Jacobian::Zero();  // information form: H = Σ A_iᵀA_i, g = Σ A_iᵀb_i
   Tangent g = Tangent::Zero();
   Jacobian R = Jacobian::Identity();
-  Tangent c = Tangent::Zero();
+  Jacobian Hinv = Jacobian::Identity();
   Scalar step(0);
   int it = 0;
   bool converged = false;
@@ -263,23 +359,26 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
     }
     if (it == 0 && max_sep > pi<Scalar>() - cutLocusMargin<Scalar>())
       return Status::invalid_argument;
+    // μ = −Σ Σ_i J_i⁻ᵀ Σ_i⁻¹ ξ_i
+    Tangent mu;
     if (information_form) {
-      // H = L_H L_Hᵀ, so R = L_Hᵀ (RᵀR = H) and c = R⁻ᵀ g = L_H⁻¹ g, as the square-root form's.
-      Jacobian LH;
-      if (choleskyChecked(H, LH) != Status::ok) return Status::numerical_failure;
-      R = LH.transpose();
-      c = g;
-      lowerSolveInPlace(LH, c);
+      // μ = −H⁻¹ g. An H too ill-conditioned for the explicit inverse: the whole call is
+      // handed to the square-root form (so the result is the square-root form's).
+      if (!spdInverse(H, Hinv)) {
+        FusionOptions<Scalar> sqrt_options = options;
+        sqrt_options.form = FusionForm::square_root;
+        return fuseFactored<Policy>(means, L, count, sqrt_options, result);
+      }
+      mu.noalias() = -(Hinv * g);
     } else {
       info.compress();
       R = info.R();
-      c = info.c();
+      for (int k = 0; k < D; ++k)
+        if (!(std::abs(R(k, k)) > Scalar(0))) return Status::numerical_failure;
+      // = −(RᵀR)⁻¹ Rᵀc = −R⁻¹ c
+      mu = -info.c();
+      upperSolveInPlace(R, mu);
     }
-    for (int k = 0; k < D; ++k)
-      if (!(std::abs(R(k, k)) > Scalar(0))) return Status::numerical_failure;
-    // μ = −Σ Σ_i J_i⁻ᵀ Σ_i⁻¹ ξ_i = −(RᵀR)⁻¹ Rᵀc = −R⁻¹ c
-    Tangent mu = -c;
-    upperSolveInPlace(R, mu);
     if (!allFinite(mu)) return Status::numerical_failure;
     X = G::exp(mu) * X;  // eq. 54 (eqn:se3_normalised_prod_update)
     ++it;
@@ -292,9 +391,15 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
   if (options.tolerance > Scalar(0) && !converged) return Status::not_converged;
 
   X.normalize();
-  // Σ* = (RᵀR)⁻¹ = R⁻¹ R⁻ᵀ, from the last linearisation (as the paper's algorithm returns it).
-  const Jacobian Rinv = upperTriangularInverse(R);
-  Jacobian Sigma = Rinv * Rinv.transpose();
+  // Σ* = H⁻¹ = (RᵀR)⁻¹ = R⁻¹ R⁻ᵀ, from the last linearisation (as the paper's algorithm
+  // returns it).
+  Jacobian Sigma;
+  if (information_form) {
+    Sigma = Hinv;
+  } else {
+    const Jacobian Rinv = upperTriangularInverse(R);
+    Sigma = Rinv * Rinv.transpose();
+  }
   if (!X.allFinite() || !allFinite(Sigma) || !std::isfinite(step))
     return Status::numerical_failure;
   // R⁻¹R⁻ᵀ is SPD in exact arithmetic; rounding can break that when its eigenvalues span more
