@@ -52,6 +52,13 @@ void check(Status s, const char* where) {
   if (s != Status::ok) throw StatusError{s, where};
 }
 
+/// The fusion form named in Python: "information" or "square_root".
+FusionForm fusionForm(const std::string& name, const char* where) {
+  if (name == "information") return FusionForm::information;
+  if (name == "square_root") return FusionForm::square_root;
+  throw py::value_error(std::string(where) + ": form must be 'information' or 'square_root', got '" + name + "'");
+}
+
 template <class G>
 G checkedFromMatrix(const typename G::Matrix& M) {
   G out;
@@ -222,10 +229,12 @@ void bindEstimation(py::module_& m, const std::string& suffix) {
 
   m.def(
       ("fuse" + suffix).c_str(),
-      [](const Gaussian& a, const Gaussian& b, int max_iterations, double tolerance, const std::string& jacobian) {
+      [](const Gaussian& a, const Gaussian& b, int max_iterations, double tolerance, const std::string& jacobian,
+         const std::string& form) {
         FusionOptions<double> o;
         o.max_iterations = max_iterations;
         o.tolerance = tolerance;
+        o.form = fusionForm(form, "fuse");
         FusionResult<G> r;
         Status s;
         if (jacobian == "paper")
@@ -243,28 +252,31 @@ void bindEstimation(py::module_& m, const std::string& suffix) {
         return d;
       },
       py::arg("a"), py::arg("b"), py::arg("max_iterations") = 5, py::arg("tolerance") = 0.0,
-      py::arg("jacobian") = "paper",
-      "The normalised product of two concentrated Gaussians (Algorithm 3, alg:se3_data_fusion). Returns a dict: "
-      "fused, iterations, step_norm, max_rotation_separation.");
+      py::arg("jacobian") = "paper", py::arg("form") = "information",
+      "The normalised product of two concentrated Gaussians (Algorithm 3, alg:se3_data_fusion). form: "
+      "'information' (default; hands ill-conditioned factors to the square-root form) or 'square_root'. "
+      "Returns a dict: fused, iterations, step_norm, max_rotation_separation.");
 
   using Filter = DiscriminativeBayesFilter<G, PaperJacobian>;
   const std::string fname = "DiscriminativeBayesFilter" + suffix;
   py::class_<Filter>(m, fname.c_str(),
                      "The discriminative Bayes filter (Algorithm 2, alg:se3_bayes_filter), series J⁻¹ N = 2 as the paper.")
       .def(py::init([](const py::object& process_noise, int max_iterations, double tolerance, bool gating,
-                       double gate_probability) {
+                       double gate_probability, const std::string& form) {
              typename Filter::Options o;
              if (!process_noise.is_none()) o.process_noise = process_noise.cast<Jacobian>();
              o.fusion.max_iterations = max_iterations;
              o.fusion.tolerance = tolerance;
+             o.fusion.form = fusionForm(form, "DiscriminativeBayesFilter");
              o.gating = gating;
              o.gate_probability = gate_probability;
              check(Filter::validate(o), "DiscriminativeBayesFilter");
              return Filter(o);
            }),
            py::arg("process_noise") = py::none(), py::arg("max_iterations") = 5, py::arg("tolerance") = 0.0,
-           py::arg("gating") = false, py::arg("gate_probability") = 0.999,
-           "process_noise: Σφ (default: the paper's σφ = 0.5 mm and 0.5°, in radians).")
+           py::arg("gating") = false, py::arg("gate_probability") = 0.999, py::arg("form") = "information",
+           "process_noise: Σφ (default: the paper's σφ = 0.5 mm and 0.5°, in radians); form: the fusion's "
+           "'information' (default) or 'square_root' form.")
       .def(
           "step",
           [](Filter& f, const G& sensor_pose, const Gaussian& observation) {

@@ -402,8 +402,9 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
   }
   if (!X.allFinite() || !allFinite(Sigma) || !std::isfinite(step))
     return Status::numerical_failure;
-  // R⁻¹R⁻ᵀ is SPD in exact arithmetic; rounding can break that when its eigenvalues span more
-  // than ~1/eps in a rotated basis: symmetrise, and repair with a rounding-level diagonal load.
+  // Σ* is SPD in exact arithmetic; rounding can break that when its eigenvalues span more than
+  // ~1/eps in a rotated basis (only the square-root form reaches such spreads): symmetrise, and
+  // repair with a rounding-level diagonal load.
   if (repairSpd(Sigma) != Status::ok) return Status::numerical_failure;
 
   result.fused.mean = X;
