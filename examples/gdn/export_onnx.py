@@ -301,6 +301,8 @@ def main(argv=None):
                  if kind == 'gdn' else 'regression head: Dropout(0.1) -> Linear(F,6)')),
             'training': {
                 'loss': ('mean NLL (eq. 5, eqn:gdn_mean_nll_loss_def, c omitted), labels mm/deg'
+                         + ('; beta-NLL: each term weighted by sigma^(2 beta), beta = {:g}, the weight held '
+                            'constant in the gradient'.format(summ['beta_nll']) if summ.get('beta_nll') else '')
                          if kind == 'gdn' else
                          'weighted MSE, alpha=%s on mm/rad == %s on mm/deg' %
                          (list(CNN_ALPHA_RAD), [round(a, 6) for a in CNN_ALPHA_DEG])),

@@ -277,6 +277,7 @@ def main(argv=None):
     vloss, vmae, _ = evaluate(model, args.model, Xva, Yva, alpha)
     summary = dict(kind=args.model, channels=channels, params=n_par, seed=args.seed,
                    sessions=sessions, monitor=monitor, augment=args.augment, weight_decay=args.weight_decay,
+                   beta_nll=args.beta_nll,
                    epochs_run=len(hist), e_max=e_max, best_epoch=best[1],
                    seconds_per_epoch=float(np.mean(ep_times)) if ep_times else None,
                    total_seconds=time.time() - t_start, threads=args.threads,
