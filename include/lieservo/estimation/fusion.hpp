@@ -37,6 +37,7 @@
 #include <limits>
 
 #include <Eigen/Core>
+#include <Eigen/LU>
 
 #include "../status.hpp"
 #include "../units.hpp"
@@ -239,9 +240,9 @@ bool spdInverseBlocks(const Eigen::Matrix<Scalar, 6, 6>& He, Eigen::Matrix<Scala
 
 /// H⁻¹ of an SPD information matrix H (DoF 1–4 or 6), after the diagonal equilibration
 /// He = D H D, D = diag(H_ii)^−½, H⁻¹ = D He⁻¹ D: 6×6 by spdInverseBlocks, smaller sizes by
-/// cofactors (Eigen's fixed-size inverse). Returns false (Hinv unwritten) unless H's diagonal is
-/// positive and finite, the determinants are positive and trace(He⁻¹) ≤
-/// informationTraceLimit().
+/// cofactors (Eigen's fixed-size inverse, which also returns the determinant). Returns false
+/// (Hinv unwritten) unless H's diagonal is positive and finite, the determinants are positive
+/// and trace(He⁻¹) ≤ informationTraceLimit().
 template <class Mat>
 bool spdInverse(const Mat& H, Mat& Hinv) noexcept {
   using Scalar = typename Mat::Scalar;
@@ -257,9 +258,10 @@ bool spdInverse(const Mat& H, Mat& Hinv) noexcept {
     if (!spdInverseBlocks(He, E)) return false;
   } else {
     static_assert(n <= 4, "spdInverse: sizes 1-4 and 6");
-    const Scalar det = He.determinant();
-    if (!(det > Scalar(0))) return false;
-    E = He.inverse();
+    Scalar det(0);
+    bool invertible = false;
+    He.computeInverseAndDetWithCheck(E, det, invertible, Scalar(0));
+    if (!invertible || !(det > Scalar(0))) return false;
   }
   const Scalar tr = E.trace();
   if (!(tr <= informationTraceLimit<Scalar>())) return false;  // also catches NaN
