@@ -8,7 +8,8 @@
 //    J⁻¹(0,1) = D a²), against an independent long-double Taylor series, for θ ∈ [1e-9, 1e-3].
 // 2. Speed, every library on the same inputs in the same run (names <op>/<library>):
 //    SE(3) exp, log, Ad, left Jacobian and its inverse, compose, inverse, act; SO(3) exp and
-//    log; double and float. The peers store a unit quaternion and lieservo a rotation matrix,
+//    log; double and float. The tangents have angles up to 1 rad; SO(3) exp is also timed on
+//    angles between a quarter and a half turn (exp_large), where lieservo leaves its series. The peers store a unit quaternion and lieservo a rotation matrix,
 //    so SO(3) is timed twice for the peers: in their own representation (exp returns a
 //    quaternion, log starts from one) and as a matrix (exp followed by the conversion to a
 //    matrix, log preceded by the conversion from one), which is what lieservo's calls do.
@@ -100,6 +101,7 @@ struct Inputs {
   G X[kRing], Y[kRing];
   Eigen::Matrix<S, 3, 3> R[kRing];  // X's rotation matrix (the peers' "log from a matrix")
   Eigen::Matrix<S, 3, 1> p[kRing];
+  Eigen::Matrix<S, 3, 1> phi_large[kRing];  // rotation vectors with θ ∈ (π/2, π)
 #ifdef LIESERVO_HAVE_SOPHUS
   Sophus::SE3<S> sX[kRing], sY[kRing];
 #endif
@@ -108,7 +110,10 @@ struct Inputs {
 #endif
   Inputs() {
     const auto& in = lieservo_bench::GroupInputs<G>::get();
+    lieservo::sampling::Rng rng(99);
     for (std::size_t i = 0; i < kRing; ++i) {
+      const double angle = lieservo_bench::uniform(rng, 0.5, 1.0) * lieservo::pi<double>();
+      phi_large[i] = lieservo_bench::randomTangent<lieservo::SO3<S>>(rng, 0.0, 1.0).normalized() * S(angle);
       xi[i] = in.xi[i];
       X[i] = in.X[i];
       Y[i] = in.Y[i];
@@ -163,6 +168,7 @@ void registerAll(const std::string& sfx) {  // sfx: "d" or "f", as the libraries
   registerOp<S>(se3 + "act/lieservo", [](const In& in, std::size_t i) { return V3(in.X[i] * in.p[i]); });
   registerOp<S>(so3 + "exp/lieservo", [](const In& in, std::size_t i) { return SO3::exp(in.xi[i].template tail<3>()); });
   registerOp<S>(so3 + "log/lieservo", [](const In& in, std::size_t i) { return in.X[i].so3().log(); });
+  registerOp<S>(so3 + "exp_large/lieservo", [](const In& in, std::size_t i) { return SO3::exp(in.phi_large[i]); });
 
 #ifdef LIESERVO_HAVE_SOPHUS
   using SE = Sophus::SE3<S>;
@@ -178,6 +184,7 @@ void registerAll(const std::string& sfx) {  // sfx: "d" or "f", as the libraries
   registerOp<S>(se3 + "act/sophus", [](const In& in, std::size_t i) { return V3(in.sX[i] * in.p[i]); });
   registerOp<S>(so3 + "exp/sophus", [](const In& in, std::size_t i) { return SO::exp(in.xi[i].template tail<3>()); });
   registerOp<S>(so3 + "log/sophus", [](const In& in, std::size_t i) { return in.sX[i].so3().log(); });
+  registerOp<S>(so3 + "exp_large/sophus", [](const In& in, std::size_t i) { return SO::exp(in.phi_large[i]); });
   registerOp<S>(so3 + "exp_matrix/sophus",
                 [](const In& in, std::size_t i) { return SO::exp(in.xi[i].template tail<3>()).matrix(); });
   registerOp<S>(so3 + "log_matrix/sophus", [](const In& in, std::size_t i) { return SO(in.R[i]).log(); });
@@ -196,6 +203,7 @@ void registerAll(const std::string& sfx) {  // sfx: "d" or "f", as the libraries
   registerOp<S>(se3 + "act/manif", [](const In& in, std::size_t i) { return V3(in.mX[i].act(in.p[i])); });
   registerOp<S>(so3 + "exp/manif", [](const In& in, std::size_t i) { return MRT(in.xi[i].template tail<3>()).exp(); });
   registerOp<S>(so3 + "log/manif", [](const In& in, std::size_t i) { return in.mX[i].asSO3().log(); });
+  registerOp<S>(so3 + "exp_large/manif", [](const In& in, std::size_t i) { return MRT(in.phi_large[i]).exp(); });
   registerOp<S>(so3 + "exp_matrix/manif",
                 [](const In& in, std::size_t i) { return MRT(in.xi[i].template tail<3>()).exp().rotation(); });
   registerOp<S>(so3 + "log_matrix/manif",

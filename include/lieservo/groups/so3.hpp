@@ -58,8 +58,16 @@ class SO3 {
 
   // ---- exp / log --------------------------------------------------------------------------
   /// exp(φ^) = I + (sinθ/θ) φ^ + ((1 − cosθ)/θ²) φ^φ^ (Rodrigues). Any |φ| (also ≥ π).
+  /// Up to a quarter turn it is built from the unit quaternion (w, v) = (cos(θ/2),
+  /// (sin(θ/2)/θ) φ), whose two factors are short series in x = θ² (no square root, sin/cos
+  /// call or division); beyond, by Rodrigues with one sin/cos of θ/2.
   static SO3 exp(const Tangent& phi) {
-    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    const Scalar x = phi.squaredNorm();
+    if (x <= Scalar(Real(detail::kHalfAngleSeriesMaxX))) {
+      const auto kw = detail::lanesEval(detail::kHalfAngleSeries<Scalar>.a, x);
+      return fromHalfAngle(phi, kw(0), kw(1));
+    }
+    const detail::AngleTerms<Scalar> t(x);
     return expWith(phi, t);
   }
 
@@ -292,6 +300,12 @@ class SO3 {
     C(1, 2) -= a(0);
     C(2, 1) += a(0);
     return fromMatrixUnchecked(C);
+  }
+  /// The rotation of the unit quaternion (w, v), v = k φ (detail::matrixFromHalfAngle).
+  static SO3 fromHalfAngle(const Tangent& phi, const Scalar& k, const Scalar& w) {
+    SO3 r;
+    detail::matrixFromHalfAngle(phi, k, w, r.C_);
+    return r;
   }
   static Jacobian leftJacobianWith(const Tangent& phi, const detail::AngleTerms<Scalar>& t) {
     return identityPlus(phi, detail::coeffB(t), detail::coeffC(t));

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "series.hpp"
 
@@ -152,6 +153,65 @@ struct AngleTerms {
     one_minus_cos = Scalar(Real(2)) * sh * sh;
   }
 };
+
+// ---- the half-angle terms of exp on SO(3), as series over a quarter turn ------------------
+//
+// exp(φ^) is the rotation of the unit quaternion (w, v) = (cos(θ/2), (sin(θ/2)/θ) φ). Both
+// factors are even and entire in θ, so they are power series in x = θ² alone: no square root,
+// no sin/cos call, no division. Over θ ≤ π/2 (x ≤ π²/4) a few terms reach the precision of
+// the scalar, and the two series run side by side in one SIMD packet (lanesEval).
+
+/// sin(θ/2)/θ = Σ (−1)^n xⁿ / (2·4ⁿ·(2n+1)!), the n-th coefficient.
+constexpr long double halfSincTerm(int n) noexcept {
+  long double d = 2.0L;
+  for (int k = 1; k <= 2 * n + 1; ++k) d *= static_cast<long double>(k);
+  for (int k = 0; k < n; ++k) d *= 4.0L;
+  return (n % 2 == 0 ? 1.0L : -1.0L) / d;
+}
+
+/// cos(θ/2) = Σ (−1)^n xⁿ / (4ⁿ·(2n)!), the n-th coefficient.
+constexpr long double halfCosTerm(int n) noexcept {
+  long double d = 1.0L;
+  for (int k = 1; k <= 2 * n; ++k) d *= static_cast<long double>(k);
+  for (int k = 0; k < n; ++k) d *= 4.0L;
+  return (n % 2 == 0 ? 1.0L : -1.0L) / d;
+}
+
+/// x = θ² up to which exp uses the half-angle series: a quarter turn, (π/2)².
+constexpr long double kHalfAngleSeriesMaxX = 2.4674011002723396547086758650315838L;
+
+/// The number of terms K for one scalar type: the first omitted term of each series stays
+/// below eps·|a0| at x = π²/4, the same rule as every other series here (series.hpp).
+template <class Scalar>
+constexpr int halfAngleTermCount() noexcept {
+  const long double eps = epsilonOf<Scalar>();
+  for (int K = 3; K < 40; ++K) {
+    long double xk = 1.0L;
+    for (int k = 0; k < K; ++k) xk *= kHalfAngleSeriesMaxX;
+    const long double s = halfSincTerm(K) * xk, c = halfCosTerm(K) * xk;
+    if ((s < 0 ? -s : s) < eps * halfSincTerm(0) && (c < 0 ? -c : c) < eps * halfCosTerm(0)) return K;
+  }
+  return 40;
+}
+
+/// The two series' coefficients for one scalar type, lane 0 sin(θ/2)/θ and lane 1 cos(θ/2),
+/// rounded once from long double; float pads to a 4-lane packet.
+template <class Scalar>
+struct HalfAngleSeries {
+  using Real = RealOf<Scalar>;
+  static constexpr int K = halfAngleTermCount<Scalar>();
+  static constexpr int L = std::is_same<Real, float>::value ? 4 : 2;
+  alignas(16) Real a[K][L];
+  constexpr HalfAngleSeries() noexcept : a() {
+    for (int n = 0; n < K; ++n) {
+      a[n][0] = static_cast<Real>(halfSincTerm(n));
+      a[n][1] = static_cast<Real>(halfCosTerm(n));
+    }
+  }
+};
+
+template <class Scalar>
+inline constexpr HalfAngleSeries<Scalar> kHalfAngleSeries{};
 
 /// sinθ/θ.
 template <class Scalar>

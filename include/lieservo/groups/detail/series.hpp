@@ -65,6 +65,31 @@ inline Scalar hornerEval(const SeriesTable<K>& s, const Scalar& x) {
   return r;
 }
 
+/// Several series in the same x, one per lane, evaluated together: one SIMD packet per step
+/// for float (4 lanes) and double (2 lanes). a0 + x(a1 + x·E(x)), with the tail E by Estrin's
+/// scheme (pairs a_i + x a_{i+1}, then x², x⁴, …): the two Horner steps at the bottom keep the
+/// rounding of a Horner evaluation (they dominate it), the Estrin tail shortens the chain of
+/// dependent multiply-adds. K ≥ 3 terms, lanes side by side in a[k][0..L−1].
+template <class Scalar, int K, int L>
+inline Eigen::Array<Scalar, L, 1> lanesEval(const RealOf<Scalar> (&a)[K][L], const Scalar& x) {
+  static_assert(K >= 3, "lanesEval needs at least three terms");
+  using Lanes = Eigen::Array<Scalar, L, 1>;
+  const auto term = [&a](int k) { return Eigen::Map<const Eigen::Array<RealOf<Scalar>, L, 1>>(a[k]).template cast<Scalar>(); };
+  Lanes q[K];
+  int m = 0;
+  for (int k = 2; k + 1 < K; k += 2) q[m++] = term(k) + x * term(k + 1);
+  if ((K - 2) % 2 == 1) q[m++] = term(K - 1);
+  Scalar y = x * x;
+  while (m > 1) {
+    int j = 0;
+    for (int i = 0; i + 1 < m; i += 2) q[j++] = q[i] + y * q[i + 1];
+    if (m % 2 == 1) q[j++] = q[m - 1];
+    m = j;
+    y = y * y;
+  }
+  return term(0) + x * (term(1) + x * q[0]);
+}
+
 /// B_n / n! (Bernoulli numbers with B_1 = −1/2), from the generating function x/(eˣ−1):
 /// Σ_{k=0}^{n} b_k / (n+1−k)! = 0 for n ≥ 1, b_0 = 1. Exact enough in long double for n ≤ 60.
 /// constexpr, so that the series' coefficients are compile-time constants (BernoulliTable).
