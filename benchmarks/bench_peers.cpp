@@ -9,10 +9,11 @@
 // 2. Speed, every library on the same inputs in the same run (names <op>/<library>):
 //    SE(3) exp, log, Ad, left Jacobian and its inverse, compose, inverse, act; SO(3) exp and
 //    log; double and float. The tangents have angles up to 1 rad; SO(3) exp is also timed on
-//    angles between a quarter and a half turn (exp_large), where lieservo leaves its series. The peers store a unit quaternion and lieservo a rotation matrix,
-//    so SO(3) is timed twice for the peers: in their own representation (exp returns a
-//    quaternion, log starts from one) and as a matrix (exp followed by the conversion to a
-//    matrix, log preceded by the conversion from one), which is what lieservo's calls do.
+//    angles between a quarter and a half turn (exp_large), where lieservo leaves its series.
+//    The peers store a unit quaternion and lieservo a rotation matrix, so SO(3) is timed
+//    twice for the peers: in their own representation (exp returns a quaternion, log starts
+//    from one) and as a matrix (exp followed by the conversion to a matrix, log preceded by the
+//    conversion from one), which is what lieservo's calls do.
 #include <benchmark/benchmark.h>
 
 #include <cmath>

@@ -74,7 +74,9 @@ template <class Scalar, int K, int L>
 inline Eigen::Array<Scalar, L, 1> lanesEval(const RealOf<Scalar> (&a)[K][L], const Scalar& x) {
   static_assert(K >= 3, "lanesEval needs at least three terms");
   using Lanes = Eigen::Array<Scalar, L, 1>;
-  const auto term = [&a](int k) { return Eigen::Map<const Eigen::Array<RealOf<Scalar>, L, 1>>(a[k]).template cast<Scalar>(); };
+  const auto term = [&a](int k) {
+    return Eigen::Map<const Eigen::Array<RealOf<Scalar>, L, 1>>(a[k]).template cast<Scalar>();
+  };
   Lanes q[K];
   int m = 0;
   for (int k = 2; k + 1 < K; k += 2) q[m++] = term(k) + x * term(k + 1);
