@@ -232,8 +232,11 @@ class DiscriminativeBayesFilter {
     Jacobian L_obs;
     s = detail::choleskyChecked(obs.covariance, L_obs);
     if (s != Status::ok) return s;
+    // The innovation ν = ln(X̄_obs X̄_bel⁻¹)^∨ is also the belief's ξ at the fusion's first
+    // operating point (the observation), so it is computed once for both.
+    const Tangent nu = lminus(obs.mean, bel.mean);
     Scalar nis(0);
-    s = normalizedInnovationSquared(obs, bel, nis);
+    s = detail::innovationNis<G>(nu, obs.covariance, bel.covariance, nis);
     if (s != Status::ok) return s;
     if (options_.gating && !(nis <= d.gate_threshold)) {
       fil = bel;
@@ -248,7 +251,7 @@ class DiscriminativeBayesFilter {
     // Algorithm 3 (alg:se3_data_fusion), the operating point starting at the observation (as the paper).
     const G means[2] = {obs.mean, bel.mean};
     const Jacobian L[2] = {L_obs, L_bel};
-    s = detail::fuseFactored<Policy>(means, L, 2, options_.fusion, r);
+    s = detail::fuseFactored<Policy>(means, L, 2, options_.fusion, r, &nu);
     if (s != Status::ok) return s;
     fil = r.fused;
     d.nis = nis;

@@ -269,6 +269,24 @@ bool spdInverse(const Mat& H, Mat& Hinv) noexcept {
   return true;
 }
 
+/// νᵀ S⁻¹ ν with S = Σ_a + Σ_b, for an innovation ν and two covariances already known to be
+/// finite (normalizedInnovationSquared checks them; the filter has). Status: ok, not_spd,
+/// numerical_failure; `nis` is written only when ok.
+template <class G>
+Status innovationNis(const typename G::Tangent& nu, const typename G::Jacobian& Sigma_a,
+                     const typename G::Jacobian& Sigma_b, typename G::Scalar& nis) noexcept {
+  const typename G::Jacobian S = Sigma_a + Sigma_b;
+  typename G::Jacobian L;
+  const Status s = choleskyChecked(S, L);
+  if (s != Status::ok) return s;
+  typename G::Tangent w = nu;
+  lowerSolveInPlace(L, w);
+  const typename G::Scalar r = w.squaredNorm();
+  if (!allFinite(nu) || !std::isfinite(r)) return Status::numerical_failure;
+  nis = r;
+  return Status::ok;
+}
+
 }  // namespace detail
 
 /// Normalised innovation squared of an observation against a prior (both concentrated
@@ -285,16 +303,9 @@ Status normalizedInnovationSquared(const ConcentratedGaussian<G>& observation,
   if (!observation.mean.allFinite() || !prior.mean.allFinite() ||
       !detail::allFinite(observation.covariance) || !detail::allFinite(prior.covariance))
     return Status::non_finite_input;
-  const typename G::Jacobian S = observation.covariance + prior.covariance;
-  typename G::Jacobian L;
-  const Status s = detail::choleskyChecked(S, L);
-  if (s != Status::ok) return s;
   const typename G::Tangent nu = lminus(observation.mean, prior.mean);
-  typename G::Tangent w = nu;
-  detail::lowerSolveInPlace(L, w);
-  const typename G::Scalar r = w.squaredNorm();
-  if (!detail::allFinite(nu) || !std::isfinite(r)) return Status::numerical_failure;
-  nis = r;
+  const Status s = detail::innovationNis<G>(nu, observation.covariance, prior.covariance, nis);
+  if (s != Status::ok) return s;
   if (innovation) *innovation = nu;
   return Status::ok;
 }
@@ -305,11 +316,13 @@ namespace detail {
 /// valid group elements, `L` the lower Cholesky factors of their covariances (Σ_i = L_i L_iᵀ,
 /// as choleskyChecked returns them), 1 ≤ count ≤ kMaxFusionFactors, options valid. fuse()
 /// validates and factorises, then calls this; the filter calls it directly with the factors it
-/// already has, so that no input is checked or factorised twice. Status as fuse().
+/// already has, so that no input is checked or factorised twice. `second_residual` (optional):
+/// ξ_2 = ln(X̄_1 X̄_2⁻¹)^∨ at the initial operating point, when the caller has it already (the
+/// filter's innovation), so that its log is not taken twice. Status as fuse().
 template <class Policy, class G>
 Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
-                    const FusionOptions<typename G::Scalar>& options,
-                    FusionResult<G>& result) noexcept {
+                    const FusionOptions<typename G::Scalar>& options, FusionResult<G>& result,
+                    const typename G::Tangent* second_residual = nullptr) noexcept {
   using Scalar = typename G::Scalar;
   using Tangent = typename G::Tangent;
   using Jacobian = typename G::Jacobian;
@@ -343,8 +356,23 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
       info.reset();
     }
     for (int i = 0; i < count; ++i) {
+      if (it == 0 && i == 0) {
+        // The operating point starts at X̄_1: ξ_1 = ln(X̄_1 X̄_1⁻¹)^∨ = 0 and J(0)⁻¹ = 1, so
+        // A_1 = L_1⁻¹ and b_1 = 0 (exactly, where the log of the rounded X̄_1 X̄_1⁻¹ is not).
+        if (information_form)
+          H.noalias() += W[0].transpose() * W[0];
+        else
+          info.add(W[0], Tangent::Zero());
+        continue;
+      }
       Jacobian Jinv;
-      const Tangent xi = Policy::logAndInverse(X * inv_mean[i], Jinv);  // ξ_i, J(ξ_i)⁻¹
+      Tangent xi;  // ξ_i, J(ξ_i)⁻¹
+      if (it == 0 && i == 1 && second_residual != nullptr) {
+        xi = *second_residual;
+        Jinv = Policy::template inverse<G>(xi);
+      } else {
+        xi = Policy::logAndInverse(X * inv_mean[i], Jinv);
+      }
       if (it == 0) {
         // At the initial operating point ξ_i = ln(X̄_1 X̄_i⁻¹): how far apart the means are.
         if (!allFinite(xi)) return Status::numerical_failure;
@@ -369,7 +397,7 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
       if (!spdInverse(H, Hinv)) {
         FusionOptions<Scalar> sqrt_options = options;
         sqrt_options.form = FusionForm::square_root;
-        return fuseFactored<Policy>(means, L, count, sqrt_options, result);
+        return fuseFactored<Policy>(means, L, count, sqrt_options, result, second_residual);
       }
       mu.noalias() = -(Hinv * g);
     } else {

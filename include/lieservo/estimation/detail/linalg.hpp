@@ -67,23 +67,34 @@ Status choleskyChecked(const Mat& S, Mat& L) noexcept {
   // below is scale-free. Cholesky commutes with diagonal scaling: L = D⁻¹ chol(D S D).
   Scalar inv_sd[n];
   for (int i = 0; i < n; ++i) inv_sd[i] = Scalar(1) / sd[i];
-  // Cholesky–Crout on the equilibrated matrix (lower triangle of the symmetric part), with
-  // every pivot L_jj² checked against pivotTolerance (written out: n ≤ 6 here, and Eigen's LLT
-  // would also compute an unused L1 norm).
-  Mat Le = Mat::Zero();
+  // Cholesky in LDLᵀ form on the equilibrated matrix (lower triangle of the symmetric part),
+  // every pivot d_j = L_jj² checked against pivotTolerance. Each column waits on one reciprocal
+  // 1/d_j, where the LLᵀ form waits on a square root and then a reciprocal; the six square
+  // roots L_jj = √d_j are independent and taken at the end. Written out: n ≤ 6 here, and
+  // Eigen's LDLT pivots (so its factor is not the Cholesky factor) and LLT also computes an
+  // unused L1 norm. U(i, k) = L̃(i, k) d_k is kept beside the unit-lower L̃.
+  Mat Lt = Mat::Zero();
+  Mat U = Mat::Zero();
+  Scalar dv[n];
   const Scalar ptol = pivotTolerance<Scalar>();
   for (int j = 0; j < n; ++j) {
     Scalar d = Scalar(1);  // the equilibrated diagonal
-    for (int k = 0; k < j; ++k) d -= Le(j, k) * Le(j, k);
+    for (int k = 0; k < j; ++k) d -= Lt(j, k) * U(j, k);
     if (!(d >= ptol)) return Status::not_spd;  // also catches NaN
-    const Scalar ljj = std::sqrt(d);
-    Le(j, j) = ljj;
-    const Scalar inv_ljj = Scalar(1) / ljj;
+    dv[j] = d;
+    const Scalar inv_d = Scalar(1) / d;
     for (int i = j + 1; i < n; ++i) {
       Scalar v = (Scalar(0.5) * (S(i, j) + S(j, i)) * inv_sd[i]) * inv_sd[j];
-      for (int k = 0; k < j; ++k) v -= Le(i, k) * Le(j, k);
-      Le(i, j) = v * inv_ljj;
+      for (int k = 0; k < j; ++k) v -= Lt(i, k) * U(j, k);
+      U(i, j) = v;
+      Lt(i, j) = v * inv_d;
     }
+  }
+  Mat Le;
+  for (int j = 0; j < n; ++j) {
+    const Scalar ljj = std::sqrt(dv[j]);
+    Le.col(j) = Lt.col(j) * ljj;
+    Le(j, j) = ljj;
   }
   for (int i = 0; i < n; ++i) Le.row(i) *= sd[i];  // undo the row scaling: L = D⁻¹ Le
   if (!allFinite(Le)) return Status::numerical_failure;
