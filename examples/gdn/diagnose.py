@@ -21,6 +21,10 @@
    on the validation set. A constant factor is the special case b = 1.
 5. With --holdout-run: that run's MAE by depth on its held-out training rows and on the
    validation set: at which depths the validation session is harder.
+6. With --geometry (alone, in seconds): do the two sessions' images differ as a whole? The
+   affine warp between the mean training and the mean validation image (shift, rotation,
+   scale; cv2.findTransformECC) and their grey levels, beside the same numbers between the
+   two halves of each split (the noise floor).
 
 Units: mm and degrees (the networks' output units); sigma_psi in mm for rho, degrees for phi,
 as in the paper's Table 2.
@@ -125,6 +129,42 @@ def scalar_filter_ratio(err: np.ndarray, sigma: np.ndarray, sigma_psi, reps: int
     return out / reps / base
 
 
+def session_geometry(a: np.ndarray, b: np.ndarray):
+    """The affine warp that aligns image b with image a (cv2.findTransformECC, the enhanced
+    correlation coefficient, on the interior: an 8-pixel border is masked out), as the shift of
+    the image centre (dx, dy in pixels), the rotation (degrees, counter-clockwise as
+    cv2.getRotationMatrix2D) and the scale (square root of the determinant). Returns
+    (dx, dy, rotation, scale, correlation)."""
+    import cv2
+    a = np.asarray(a, np.float32)
+    b = np.asarray(b, np.float32)
+    if a.ndim != 2 or a.shape != b.shape or min(a.shape) <= 16:
+        raise ValueError(f'two equal 2-D images larger than 16 px expected, got {a.shape} and {b.shape}')
+    mask = np.zeros(a.shape, np.uint8)
+    mask[8:-8, 8:-8] = 1
+    crit = (cv2.TERM_CRITERIA_EPS | cv2.TERM_CRITERIA_COUNT, 500, 1e-8)
+    cc, W = cv2.findTransformECC(a, b, np.eye(2, 3, dtype=np.float32), cv2.MOTION_AFFINE, crit, mask, 5)
+    A = W[:, :2].astype(np.float64)
+    c = np.array([(a.shape[1] - 1) / 2.0, (a.shape[0] - 1) / 2.0])
+    t = W[:, 2].astype(np.float64) + A @ c - c
+    rotation = -np.degrees(np.arctan2(A[1, 0] - A[0, 1], A[0, 0] + A[1, 1]))
+    return float(t[0]), float(t[1]), float(rotation), float(np.sqrt(abs(np.linalg.det(A)))), float(cc)
+
+
+def print_session_geometry(tr, va) -> None:
+    a = tr.images_u8.astype(np.float64)
+    b = va.images_u8.astype(np.float64)
+    print('6. The two sessions as a whole: the affine warp between mean images (128 x 128 input)')
+    print(f'{"":24}{"dx px":>8}{"dy px":>8}{"rot deg":>9}{"scale":>8}{"grey mean":>11}{"grey std":>10}')
+    for label, x, y in (('val vs train', a, b), ('train: half vs half', a[::2], a[1::2]),
+                        ('val: half vs half', b[::2], b[1::2])):
+        dx, dy, rot, sc, _ = session_geometry(x.mean(0), y.mean(0))
+        grey = f'{y.mean() - x.mean():+.2f}'
+        std = f'{y.std() / x.std():.4f}'
+        print(f'{label:24}{dx:8.3f}{dy:8.3f}{rot:9.4f}{sc:8.4f}{grey:>11}{std:>10}')
+    print('(grey mean: difference of the mean grey level, 0-255; grey std: ratio of the standard deviations)')
+
+
 def _row(label, v, fmt='{:7.3f}'):
     return f'{label:<40}' + ' '.join(fmt.format(x) for x in v)
 
@@ -143,6 +183,7 @@ def main(argv=None) -> int:
     ap.add_argument('--dump', default=None, help='write the val rows for lieservo_filter_diagnosis to this file')
     ap.add_argument('--dump-sigma', choices=['network', 'card', 'power'], default='network',
                     help='the sigma written by --dump (power needs --holdout-run)')
+    ap.add_argument('--geometry', action='store_true', help='only section 6: the two sessions as a whole')
     args = ap.parse_args(argv)
     if args.dump and args.dump_sigma == 'power' and not args.holdout_run:
         ap.error('--dump-sigma power needs --holdout-run')
@@ -150,6 +191,9 @@ def main(argv=None) -> int:
     data = args.data or default_data_dir()
     tr = load_split(data, 'train', verbose=False)
     va = load_split(data, 'val', verbose=False)
+    if args.geometry:
+        print_session_geometry(tr, va)
+        return 0
     with open(os.path.join(args.models, 'model_card.json')) as f:
         card = json.load(f)
     scale = np.asarray(card['models']['gdn'].get('sigma_calibration', {}).get('scale', [1.0] * 6))
