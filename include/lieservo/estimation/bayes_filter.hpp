@@ -233,10 +233,12 @@ class DiscriminativeBayesFilter {
     s = detail::choleskyChecked(obs.covariance, L_obs);
     if (s != Status::ok) return s;
     // The innovation ν = ln(X̄_obs X̄_bel⁻¹)^∨ is also the belief's ξ at the fusion's first
-    // operating point (the observation), so it is computed once for both.
-    const Tangent nu = lminus(obs.mean, bel.mean);
+    // operating point (the observation): it and its J(ν)⁻¹ are computed once, as the fusion
+    // would compute them.
+    detail::InitialResidual<G> innovation;
+    innovation.xi = Policy::logAndInverse(obs.mean * bel.mean.inverse(), innovation.Jinv);
     Scalar nis(0);
-    s = detail::innovationNis<G>(nu, obs.covariance, bel.covariance, nis);
+    s = detail::innovationNis<G>(innovation.xi, obs.covariance, bel.covariance, nis);
     if (s != Status::ok) return s;
     if (options_.gating && !(nis <= d.gate_threshold)) {
       fil = bel;
@@ -251,7 +253,7 @@ class DiscriminativeBayesFilter {
     // Algorithm 3 (alg:se3_data_fusion), the operating point starting at the observation (as the paper).
     const G means[2] = {obs.mean, bel.mean};
     const Jacobian L[2] = {L_obs, L_bel};
-    s = detail::fuseFactored<Policy>(means, L, 2, options_.fusion, r, &nu);
+    s = detail::fuseFactored<Policy>(means, L, 2, options_.fusion, r, &innovation);
     if (s != Status::ok) return s;
     fil = r.fused;
     d.nis = nis;

@@ -312,17 +312,25 @@ Status normalizedInnovationSquared(const ConcentratedGaussian<G>& observation,
 
 namespace detail {
 
+/// ξ_2 = ln(X̄_1 X̄_2⁻¹)^∨ at the fusion's initial operating point and J(ξ_2)⁻¹, when the caller
+/// has them already (the filter's innovation: Policy::logAndInverse of X̄_1 X̄_2⁻¹).
+template <class G>
+struct InitialResidual {
+  typename G::Tangent xi;
+  typename G::Jacobian Jinv;
+};
+
 /// The iteration of Algorithm 3 (alg:se3_data_fusion) on factors that are already validated: `means` are
 /// valid group elements, `L` the lower Cholesky factors of their covariances (Σ_i = L_i L_iᵀ,
 /// as choleskyChecked returns them), 1 ≤ count ≤ kMaxFusionFactors, options valid. fuse()
 /// validates and factorises, then calls this; the filter calls it directly with the factors it
-/// already has, so that no input is checked or factorised twice. `second_residual` (optional):
-/// ξ_2 = ln(X̄_1 X̄_2⁻¹)^∨ at the initial operating point, when the caller has it already (the
-/// filter's innovation), so that its log is not taken twice. Status as fuse().
+/// already has, so that no input is checked or factorised twice. `second` (optional): the
+/// second factor's InitialResidual, computed as this function would, so that its log is not
+/// taken twice. Status as fuse().
 template <class Policy, class G>
 Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
                     const FusionOptions<typename G::Scalar>& options, FusionResult<G>& result,
-                    const typename G::Tangent* second_residual = nullptr) noexcept {
+                    const InitialResidual<G>* second = nullptr) noexcept {
   using Scalar = typename G::Scalar;
   using Tangent = typename G::Tangent;
   using Jacobian = typename G::Jacobian;
@@ -367,9 +375,9 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
       }
       Jacobian Jinv;
       Tangent xi;  // ξ_i, J(ξ_i)⁻¹
-      if (it == 0 && i == 1 && second_residual != nullptr) {
-        xi = *second_residual;
-        Jinv = Policy::template inverse<G>(xi);
+      if (it == 0 && i == 1 && second != nullptr) {
+        xi = second->xi;
+        Jinv = second->Jinv;
       } else {
         xi = Policy::logAndInverse(X * inv_mean[i], Jinv);
       }
@@ -397,7 +405,7 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
       if (!spdInverse(H, Hinv)) {
         FusionOptions<Scalar> sqrt_options = options;
         sqrt_options.form = FusionForm::square_root;
-        return fuseFactored<Policy>(means, L, count, sqrt_options, result, second_residual);
+        return fuseFactored<Policy>(means, L, count, sqrt_options, result, second);
       }
       mu.noalias() = -(Hinv * g);
     } else {
