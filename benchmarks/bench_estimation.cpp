@@ -1,7 +1,7 @@
 // benchmarks/bench_estimation.cpp — estimation and control: two-factor fusion
 // (Algorithm 3, alg:se3_data_fusion) with 1–10 iterations under each Jacobian policy, one full filter step
 // (Algorithm 2, alg:se3_bayes_filter: predict + correct, 5 fusion iterations; information (the
-// default) and square-root form), one controller step
+// default) and square-root form; and with 1–5 iterations), one controller step
 // (TactileServoController, PushingController) and the whole estimate-and-control cycle
 // (fromTangentGaussian + filter step + servo step), SE(3), float and double.
 #include <benchmark/benchmark.h>
@@ -46,11 +46,10 @@ BENCHMARK_TEMPLATE(BM_fuse, lieservo::SeriesJacobian<2>, lieservo::SE3<double>, 
     ->DenseRange(1, 10);
 
 // ---- one filter step: predict + correct (5 iterations, the paper's settings) ---------------
-template <class G, class Policy, lieservo::FusionForm Form = lieservo::FusionForm::information>
-void BM_FilterStep(benchmark::State& state) {
+template <class G, class Policy>
+void runFilterSteps(benchmark::State& state,
+                    const typename lieservo::DiscriminativeBayesFilter<G, Policy>::Options& options) {
   const auto& in = FilterInputs<G>::get();
-  typename lieservo::DiscriminativeBayesFilter<G, Policy>::Options options;
-  options.fusion.form = Form;
   lieservo::DiscriminativeBayesFilter<G, Policy> filter(options);
   filter.reset();
   (void)filter.step(in.sensor[0], in.obs[0]);  // initialisation
@@ -68,11 +67,29 @@ void BM_FilterStep(benchmark::State& state) {
     }
   }
 }
+
+template <class G, class Policy, lieservo::FusionForm Form = lieservo::FusionForm::information>
+void BM_FilterStep(benchmark::State& state) {
+  typename lieservo::DiscriminativeBayesFilter<G, Policy>::Options options;
+  options.fusion.form = Form;
+  runFilterSteps<G, Policy>(state, options);
+}
 BENCHMARK_TEMPLATE(BM_FilterStep, lieservo::SE3<double>, lieservo::PaperJacobian);
 BENCHMARK_TEMPLATE(BM_FilterStep, lieservo::SE3<double>, lieservo::ClosedFormJacobian);
 BENCHMARK_TEMPLATE(BM_FilterStep, lieservo::SE3<double>, lieservo::PaperJacobian, lieservo::FusionForm::square_root);
 BENCHMARK_TEMPLATE(BM_FilterStep, lieservo::SE3<float>, lieservo::PaperJacobian);
 BENCHMARK_TEMPLATE(BM_FilterStep, lieservo::SE3<float>, lieservo::ClosedFormJacobian);
+
+// The same step with 1–5 fusion iterations (argument; the paper runs 5): what fewer iterations
+// buy, for a loop that cannot afford the paper's.
+template <class G, class Policy>
+void BM_FilterIterations(benchmark::State& state) {
+  typename lieservo::DiscriminativeBayesFilter<G, Policy>::Options options;
+  options.fusion.max_iterations = static_cast<int>(state.range(0));
+  runFilterSteps<G, Policy>(state, options);
+}
+BENCHMARK_TEMPLATE(BM_FilterIterations, lieservo::SE3<double>, lieservo::PaperJacobian)->DenseRange(1, 5);
+BENCHMARK_TEMPLATE(BM_FilterIterations, lieservo::SE3<double>, lieservo::ClosedFormJacobian)->DenseRange(1, 5);
 
 // ---- one controller step ----------------------------------------------------------------------
 template <class Scalar>

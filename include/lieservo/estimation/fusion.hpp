@@ -30,7 +30,9 @@
 //
 // Both are allocation-free (fixed-size storage for up to kMaxFusionFactors factors), and the
 // result is symmetrised and checked to be SPD (a rounding-level loss of definiteness is
-// repaired by a relative diagonal load of 1024 eps).
+// repaired by a relative diagonal load of 1024 eps), except where the information form's
+// explicit inverse is SPD by its own certificate (detail::spdInverseCertified: always in
+// double), which makes the check redundant.
 #pragma once
 
 #include <cmath>
@@ -242,9 +244,9 @@ bool spdInverseBlocks(const Eigen::Matrix<Scalar, 6, 6>& He, Eigen::Matrix<Scala
 /// He = D H D, D = diag(H_ii)^−½, H⁻¹ = D He⁻¹ D: 6×6 by spdInverseBlocks, smaller sizes by
 /// cofactors (Eigen's fixed-size inverse, which also returns the determinant). Returns false
 /// (Hinv unwritten) unless H's diagonal is positive and finite, the determinants are positive
-/// and trace(He⁻¹) ≤ informationTraceLimit().
+/// and trace(He⁻¹) ≤ informationTraceLimit(). `trace` (optional) receives trace(He⁻¹).
 template <class Mat>
-bool spdInverse(const Mat& H, Mat& Hinv) noexcept {
+bool spdInverse(const Mat& H, Mat& Hinv, typename Mat::Scalar* trace = nullptr) noexcept {
   using Scalar = typename Mat::Scalar;
   constexpr int n = Mat::RowsAtCompileTime;
   Eigen::Matrix<Scalar, n, 1> d;
@@ -266,7 +268,21 @@ bool spdInverse(const Mat& H, Mat& Hinv) noexcept {
   const Scalar tr = E.trace();
   if (!(tr <= informationTraceLimit<Scalar>())) return false;  // also catches NaN
   Hinv = d.asDiagonal() * E * d.asDiagonal();
+  if (trace) *trace = tr;
   return true;
+}
+
+/// Whether the (symmetrised) inverse that spdInverse returned with trace(He⁻¹) = tr is positive
+/// definite beyond doubt, so that a Cholesky test of it would only repeat what is known. The
+/// exact He⁻¹ has its eigenvalues ≥ 1/n (He is SPD with a unit diagonal, so its eigenvalues are
+/// at most its trace n), and the computed one is off by about κ(He)·eps·‖He⁻¹‖ ≤ n·tr²·eps
+/// times a modest constant. Certified when n²·tr²·eps ≤ 1e-6, which leaves that constant a
+/// margin of 10⁶: in double always (tr ≤ informationTraceLimit()), in float never for n = 6
+/// (tr ≥ n), where the Cholesky test stays.
+template <int n, class Scalar>
+bool spdInverseCertified(Scalar tr) noexcept {
+  const Scalar bound = Scalar(n) * tr;
+  return bound * bound * std::numeric_limits<Scalar>::epsilon() <= Scalar(1e-6);
 }
 
 /// νᵀ S⁻¹ ν with S = Σ_a + Σ_b, for an innovation ν and two covariances already known to be
@@ -353,6 +369,8 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
   Tangent g = Tangent::Zero();
   Jacobian R = Jacobian::Identity();
   Jacobian Hinv = Jacobian::Identity();
+  Scalar inverse_trace(0);  // trace of the equilibrated H⁻¹ (spdInverse)
+  Tangent mu = Tangent::Zero();
   Scalar step(0);
   int it = 0;
   bool converged = false;
@@ -378,6 +396,11 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
       if (it == 0 && i == 1 && second != nullptr) {
         xi = second->xi;
         Jinv = second->Jinv;
+      } else if (it == 1 && i == 0 && rotationAngle<G>(mu) < pi<Scalar>() - cutLocusMargin<Scalar>()) {
+        // After the first update X̄ = exp(μ^) X̄_1, so ξ_1 = ln(exp(μ^))^∨ = μ exactly (ln
+        // inverts exp inside the cut locus), where the log of the rounded X̄ X̄_1⁻¹ is not.
+        xi = mu;
+        Jinv = Policy::template inverse<G>(mu);
       } else {
         xi = Policy::logAndInverse(X * inv_mean[i], Jinv);
       }
@@ -398,11 +421,10 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
     if (it == 0 && max_sep > pi<Scalar>() - cutLocusMargin<Scalar>())
       return Status::invalid_argument;
     // μ = −Σ Σ_i J_i⁻ᵀ Σ_i⁻¹ ξ_i
-    Tangent mu;
     if (information_form) {
       // μ = −H⁻¹ g. An H too ill-conditioned for the explicit inverse: the whole call is
       // handed to the square-root form (so the result is the square-root form's).
-      if (!spdInverse(H, Hinv)) {
+      if (!spdInverse(H, Hinv, &inverse_trace)) {
         FusionOptions<Scalar> sqrt_options = options;
         sqrt_options.form = FusionForm::square_root;
         return fuseFactored<Policy>(means, L, count, sqrt_options, result, second);
@@ -442,8 +464,12 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
     return Status::numerical_failure;
   // Σ* is SPD in exact arithmetic; rounding can break that when its eigenvalues span more than
   // ~1/eps in a rotated basis (only the square-root form reaches such spreads): symmetrise, and
-  // repair with a rounding-level diagonal load.
-  if (repairSpd(Sigma) != Status::ok) return Status::numerical_failure;
+  // repair with a rounding-level diagonal load. An explicit inverse that spdInverseCertified
+  // vouches for is SPD already and is only symmetrised.
+  if (information_form && spdInverseCertified<D>(inverse_trace))
+    symmetrize(Sigma);
+  else if (repairSpd(Sigma) != Status::ok)
+    return Status::numerical_failure;
 
   result.fused.mean = X;
   result.fused.covariance = Sigma;
