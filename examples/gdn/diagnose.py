@@ -25,6 +25,10 @@
    affine warp between the mean training and the mean validation image (shift, rotation,
    scale; cv2.findTransformECC) and their grey levels, beside the same numbers between the
    two halves of each split (the noise floor).
+7. With --slip (alone, in seconds): where the skin slips. The shear the reproduction GDN reads
+   from the val session's images, along the labelled shear direction, by depth and by labelled
+   shear: once the skin slips the image stops changing, so the read shear levels off at the
+   slip radius (docs/simulation.md, "The gel and its slip, from the data").
 
 Units: mm and degrees (the networks' output units); sigma_psi in mm for rho, degrees for phi,
 as in the paper's Table 2.
@@ -165,6 +169,35 @@ def print_session_geometry(tr, va) -> None:
     print('(grey mean: difference of the mean grey level, 0-255; grey std: ratio of the standard deviations)')
 
 
+SLIP_DEPTHS = (0.5, 1.5, 2.5, 3.5, 4.5, 6.01)   # mm
+SLIP_SHEARS = (0.0, 1.0, 2.0, 3.0, 4.0, 5.01)   # mm
+
+
+def slip_table(read_shear: np.ndarray, euler6: np.ndarray):
+    """Mean read shear along the labelled direction, [depth bin][label |s| bin], and counts."""
+    s = euler6[:, :2]
+    mag = np.linalg.norm(s, axis=1)
+    along = np.sum(read_shear * s / np.maximum(mag, 1e-12)[:, None], axis=1)
+    z = euler6[:, 2]
+    mean = np.full((len(SLIP_DEPTHS) - 1, len(SLIP_SHEARS) - 1), np.nan)
+    count = np.zeros_like(mean, dtype=np.int64)
+    for i, (a, b) in enumerate(zip(SLIP_DEPTHS[:-1], SLIP_DEPTHS[1:])):
+        for j, (c, d) in enumerate(zip(SLIP_SHEARS[:-1], SLIP_SHEARS[1:])):
+            m = (z >= a) & (z < b) & (mag >= c) & (mag < d)
+            count[i, j] = m.sum()
+            if m.any():
+                mean[i, j] = along[m].mean()
+    return mean, count
+
+
+def print_slip(read_shear: np.ndarray, euler6: np.ndarray) -> None:
+    mean, count = slip_table(read_shear, euler6)
+    print('read shear along the label (mm), by depth (rows) and labelled |s| (columns, mm); (n)')
+    print('depth      ' + ' '.join('%9s' % f'{c:g}-{d:g}' for c, d in zip(SLIP_SHEARS[:-1], SLIP_SHEARS[1:])))
+    for i, (a, b) in enumerate(zip(SLIP_DEPTHS[:-1], SLIP_DEPTHS[1:])):
+        print(f'{a:.1f}-{b:.1f}    ' + ' '.join('%5.2f(%3d)' % (mean[i, j], count[i, j]) for j in range(mean.shape[1])))
+
+
 def _row(label, v, fmt='{:7.3f}'):
     return f'{label:<40}' + ' '.join(fmt.format(x) for x in v)
 
@@ -184,11 +217,22 @@ def main(argv=None) -> int:
     ap.add_argument('--dump-sigma', choices=['network', 'card', 'power'], default='network',
                     help='the sigma written by --dump (power needs --holdout-run)')
     ap.add_argument('--geometry', action='store_true', help='only section 6: the two sessions as a whole')
+    ap.add_argument('--slip', action='store_true', help='only section 7: where the skin slips')
     args = ap.parse_args(argv)
     if args.dump and args.dump_sigma == 'power' and not args.holdout_run:
         ap.error('--dump-sigma power needs --holdout-run')
 
     data = args.data or default_data_dir()
+    if args.slip:
+        va = load_split(data, 'val', verbose=False)
+        net = cv2.dnn.readNetFromONNX(os.path.join(args.models, 'gdn.onnx'))
+        out = []
+        for i in range(0, len(va.images), 100):
+            net.setInput(va.images[i:i + 100])
+            out.append(net.forward())
+        mu = L.from_train_units(np.concatenate(out)[:, :6].astype(np.float64))   # mm, rad
+        print_slip(L.se3_inv(L.se3_exp(mu))[:, :2, 3], va.euler6)
+        return 0
     tr = load_split(data, 'train', verbose=False)
     va = load_split(data, 'val', verbose=False)
     if args.geometry:

@@ -485,6 +485,27 @@ def diagnose_bins_and_scalar_filter_model():
 
 
 @test
+def diagnose_slip_table_levels_off_at_the_slip_radius():
+    # A synthetic sensor whose read shear is the labelled one clipped at 1.2 z: in each depth
+    # bin the table's mean equals the clipped shear's mean (1e-12), so the knee sits at 1.2 z.
+    from diagnose import slip_table, SLIP_DEPTHS
+    rng = np.random.RandomState(5)
+    n = 20000
+    z = rng.uniform(0.5, 6.0, n)
+    r = 5 * np.sqrt(rng.uniform(0, 1, n))
+    th = rng.uniform(-np.pi, np.pi, n)
+    s = np.stack([r * np.cos(th), r * np.sin(th)], axis=1)
+    read = s * (np.minimum(r, 1.2 * z) / r)[:, None]
+    e6 = np.zeros((n, 6))
+    e6[:, :2], e6[:, 2] = s, z
+    mean, count = slip_table(read, e6)
+    assert count.sum() == n
+    m = (z >= SLIP_DEPTHS[1]) & (z < SLIP_DEPTHS[2]) & (r >= 4) & (r < 5.01)
+    assert abs(mean[1, 4] - np.minimum(r[m], 1.2 * z[m]).mean()) < 1e-12
+    assert mean[1, 4] < 3.1 and mean[4, 4] > 4.3   # clipped at 1.5-2.5 mm, free at 4.5-6 mm
+
+
+@test
 def diagnose_session_geometry_recovers_known_warps():
     # Criterion (set before the run): a blurred random-dot image warped by known sub-pixel
     # shifts, small rotations and scales is recovered to 0.1 px, 0.05 deg and 0.002 in scale,

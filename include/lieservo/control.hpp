@@ -1,8 +1,10 @@
 // lieservo/control.hpp — umbrella header of the control layer (paper:
 // Section 3.3 (sec:se3_feedforward_feedback_control)): PID with feedforward, tactile servoing, pushing,
-// dual-arm leader/follower and the paper's controller presets (Tables 6–9).
+// dual-arm leader/follower (decentralised, and with a centralised follower) and the paper's
+// controller presets (Tables 6–9).
 #pragma once
 
+#include <lieservo/control/centralised_dual_arm.hpp>
 #include <lieservo/control/dual_arm.hpp>
 #include <lieservo/control/pid.hpp>
 #include <lieservo/control/presets.hpp>

@@ -56,6 +56,23 @@ struct Scene {
     X_wo = X_wo * G::exp(dt * v6(0, 0, push_speed, 0, 0, 0));
   }
 };
+// The pose with its rotation scaled by 1.01: not orthonormal.
+G skewed(const G& X) {
+  G::Matrix M = X.matrix();
+  M.topLeftCorner<3, 3>() *= 1.01;
+  return G::fromMatrixUnchecked(M);
+}
+
+// Three good steps of either dual-arm controller, pushing the scene along.
+template <class Controller>
+void warmUp(Controller& c, Scene& scene, Dual::ArmOutput& outL, Dual::ArmOutput& outF) {
+  for (int k = 0; k < 3; ++k) {
+    Dual::ArmInput inL{scene.X_wsL, {scene.featureL(), obsCov()}};
+    Dual::ArmInput inF{scene.X_wsF, {scene.featureF(), obsCov()}};
+    REQUIRE(c.step(inL, inF, 0.05, outL, outF) == Status::ok);
+    scene.advance(outL.velocity, outF.velocity, 0.05, 10);
+  }
+}
 }  // namespace
 
 TEST_CASE("dual arm: equals two hand-wired filter + controller pairs", "[control][dual_arm]") {
@@ -138,12 +155,7 @@ TEST_CASE("dual arm: failures leave filters, controllers and outputs unchanged",
   Dual dual(o, Filter(), Filter());
   Scene scene(o);
   Dual::ArmOutput outL, outF;
-  for (int k = 0; k < 3; ++k) {
-    Dual::ArmInput inL{scene.X_wsL, {scene.featureL(), obsCov()}};
-    Dual::ArmInput inF{scene.X_wsF, {scene.featureF(), obsCov()}};
-    REQUIRE(dual.step(inL, inF, 0.05, outL, outF) == Status::ok);
-    scene.advance(outL.velocity, outF.velocity, 0.05, 10);
-  }
+  warmUp(dual, scene, outL, outF);
   const V6 uL0 = outL.velocity, uF0 = outF.velocity;
   const G filL0 = dual.leaderFilter().filtered().mean, filF0 = dual.followerFilter().filtered().mean;
   const V6 iL0 = dual.leader().servo().pid().integral(), iF0 = dual.follower().pid().integral();
@@ -164,9 +176,7 @@ TEST_CASE("dual arm: failures leave filters, controllers and outputs unchanged",
   CHECK(dual.follower().pid().integral() == iF0);
   // a non-orthonormal sensor pose is refused the same way
   Dual::ArmInput skewedL = inL;
-  G::Matrix M = inL.sensor_pose.matrix();
-  M.topLeftCorner<3, 3>() *= 1.01;
-  skewedL.sensor_pose = G::fromMatrixUnchecked(M);
+  skewedL.sensor_pose = skewed(inL.sensor_pose);
   CHECK(dual.step(skewedL, inF, 0.05, outL, outF) == Status::not_orthonormal);
   CHECK(outL.velocity == uL0);
   CHECK(dual.leaderFilter().filtered().mean.isApprox(filL0, 0));
@@ -180,4 +190,157 @@ TEST_CASE("dual arm: failures leave filters, controllers and outputs unchanged",
   CHECK(!dual.followerFilter().initialised());
   CHECK(dual.step(inL, inF, 0.05, outL, outF) == Status::ok);
   CHECK(dual.leaderFilter().diagnostics().corrections == 1);
+}
+
+// ---- CentralisedDualArmPushing (Section 3.3.4, sec:single_dual_arm_controllers: the centralised
+// alternative): the decentralised twists plus the follower's feedforward from both poses.
+#include <lieservo/control/centralised_dual_arm.hpp>
+
+namespace {
+using Central = CentralisedDualArmPushing<double>;
+
+// The expected centralised feedforward, written out from the header's formulas.
+V6 expectedFeedforward(const G& X_wL, const G& X_wF, const V6& uL, double k, double vmax) {
+  const Eigen::Matrix3d R_FL = X_wF.rotationMatrix().transpose() * X_wL.rotationMatrix();
+  Eigen::Vector3d v(k * R_FL(0, 2), k * R_FL(1, 2), 0);
+  if (v.norm() > vmax) v *= vmax / v.norm();
+  V6 u = V6::Zero();
+  u.head<3>() = v + R_FL.col(2) * uL[2];
+  return u;
+}
+}  // namespace
+
+TEST_CASE("centralised dual arm: the decentralised twists plus the push and the opposition velocity",
+          "[control][dual_arm][centralised]") {
+  auto o = centralisedDualArmPushingPreset<double>(false);
+  o.arms.leader.target = G(SO3<double>(), Eigen::Vector3d(0, 150, 900));
+  Central central(o, Filter(), Filter());
+  Dual dual(o.arms, Filter(), Filter());
+  REQUIRE(central.configurationStatus() == Status::ok);
+  Scene scene(o.arms);
+  // The follower turned 8° about its x axis off the opposite pose: the opposition term acts
+  // (and is clipped at 20 mm/s for a gain of 400 mm/s per rad: 28 mm/s).
+  scene.X_wsF = scene.X_wsF * G(SO3<double>::fromEulerXYZ(deg2rad(8), deg2rad(3), 0), Eigen::Vector3d::Zero());
+  for (double gain : {100.0, 400.0}) {
+    o.opposition_gain = gain;
+    REQUIRE(central.configure(o) == Status::ok);
+    const double dt = 0.05;
+    for (int k = 0; k < 40; ++k) {
+      Dual::ArmInput inL{scene.X_wsL, {perturb(scene.featureL(), k, 1), obsCov()}};
+      Dual::ArmInput inF{scene.X_wsF, {perturb(scene.featureF(), k + 7, 1), obsCov()}};
+      Dual::ArmOutput cL, cF, dL, dF;
+      REQUIRE(central.step(inL, inF, dt, cL, cF) == Status::ok);
+      REQUIRE(dual.step(inL, inF, dt, dL, dF) == Status::ok);
+      CHECK(cL.velocity == dL.velocity);
+      const V6 ff = expectedFeedforward(inL.sensor_pose, inF.sensor_pose, dL.velocity, gain, o.max_opposition_speed);
+      CHECK((cF.velocity - (dF.velocity + ff)).norm() < 1e-12 * (1 + ff.norm()));
+      CHECK((central.followerFeedforward() - ff).norm() < 1e-12 * (1 + ff.norm()));
+      const Eigen::Matrix3d R_FL = inF.sensor_pose.rotationMatrix().transpose() * inL.sensor_pose.rotationMatrix();
+      const Eigen::Vector3d v_op = central.followerFeedforward().head<3>() - R_FL.col(2) * dL.velocity[2];
+      CHECK(v_op.norm() <= o.max_opposition_speed + 1e-12);
+      if (k == 0) CHECK(v_op.norm() > 0.5 * std::min(o.max_opposition_speed, gain * deg2rad(8)));  // it acts
+      scene.advance(cL.velocity, dF.velocity, dt, 10.0);
+    }
+  }
+}
+
+TEST_CASE("centralised dual arm: round an arc, the follower turns its axis back against the leader's",
+          "[control][dual_arm][centralised]") {
+  // Kinematic check of the opposition term alone (no feedback, no push): the follower rides a
+  // circle of radius 80 mm about the object's centre with its axis on the centre (what its
+  // servo does on a round object); the leader stands at angle 0 facing the centre. Started
+  // 25° round, the follower's own opposition velocity takes it back to 180° opposition.
+  auto o = centralisedDualArmPushingPreset<double>(false);
+  o.arms.follower.pid = MimoPid<double, 6>::Options::diagonal(V6::Zero(), V6::Zero(), V6::Zero());
+  o.arms.leader.servo.pid = MimoPid<double, 6>::Options::diagonal(V6::Zero(), V6::Zero(), V6::Zero());
+  o.arms.leader.servo.feedforward.setZero();
+  o.arms.leader.alignment_cutoff = 1e9;  // the leader stands still
+  o.arms.leader.target = G(SO3<double>(), Eigen::Vector3d(0, 0, 1e4));
+  Central central(o, Filter(), Filter());
+  REQUIRE(central.configurationStatus() == Status::ok);
+  const double rho = 80;
+  // x_s down (−z_w), z_s towards the centre; positions in the x–y plane.
+  auto onCircle = [&](double phi) {
+    const Eigen::Vector3d p(rho * std::cos(phi), rho * std::sin(phi), 0), z = -p.normalized();
+    Eigen::Matrix3d R;
+    R.col(0) = -Eigen::Vector3d::UnitZ();
+    R.col(2) = z;
+    R.col(1) = R.col(2).cross(R.col(0));
+    return G(SO3<double>::fromMatrixUnchecked(R), p);
+  };
+  const G X_wL = onCircle(pi<double>());
+  double phi = deg2rad(25);
+  for (int k = 0; k < 400; ++k) {
+    const G X_wF = onCircle(phi);
+    Dual::ArmInput inL{X_wL, {G::identity(), obsCov()}};
+    Dual::ArmInput inF{X_wF, {G::identity(), obsCov()}};
+    Dual::ArmOutput outL, outF;
+    REQUIRE(central.step(inL, inF, 0.05, outL, outF) == Status::ok);
+    // Ride the circle with the tangential part of the commanded velocity.
+    const Eigen::Vector3d v_w = X_wF.rotationMatrix() * outF.velocity.head<3>();
+    const Eigen::Vector3d t(-std::sin(phi), std::cos(phi), 0);
+    phi += 0.05 * v_w.dot(t) / rho;
+  }
+  CHECK(std::abs(phi) < deg2rad(0.5));
+}
+
+TEST_CASE("centralised dual arm: refusals and failures leave everything unchanged; termination stops both",
+          "[control][dual_arm][centralised]") {
+  auto o = centralisedDualArmPushingPreset<double>(false);
+  o.arms.leader.target = G(SO3<double>(), Eigen::Vector3d(0, 100, 800));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (double bad : {-1.0, nan, std::numeric_limits<double>::infinity()}) {
+    auto b = o;
+    b.opposition_gain = bad;
+    CHECK(Central::validate(b) == Status::invalid_argument);
+    b = o;
+    b.max_opposition_speed = bad;
+    CHECK(Central::validate(b) == Status::invalid_argument);
+  }
+  auto badArms = o;
+  badArms.arms.follower.feedforward[0] = nan;
+  CHECK(Central::validate(badArms) == Status::invalid_argument);
+  Central central(o, Filter(), Filter());
+  auto b = o;
+  b.opposition_gain = -1;
+  CHECK(central.configure(b) == Status::invalid_argument);
+  CHECK(central.options().opposition_gain == o.opposition_gain);
+  Central unconfigured(b, Filter(), Filter());
+  CHECK(unconfigured.configurationStatus() == Status::invalid_argument);
+
+  Scene scene(o.arms);
+  Dual::ArmOutput outL, outF;
+  warmUp(central, scene, outL, outF);
+  const V6 uL0 = outL.velocity, uF0 = outF.velocity, ff0 = central.followerFeedforward();
+  const G filL0 = central.arms().leaderFilter().filtered().mean;
+  const V6 iF0 = central.follower().pid().integral();
+  Dual::ArmInput inL{scene.X_wsL, {scene.featureL(), obsCov()}};
+  Dual::ArmInput inF{scene.X_wsF, {scene.featureF(), obsCov()}};
+  CHECK(central.step(inL, inF, 0.0, outL, outF) == Status::invalid_time_step);
+  Dual::ArmInput badF = inF;
+  badF.observation.covariance(2, 2) = nan;
+  CHECK(central.step(inL, badF, 0.05, outL, outF) != Status::ok);
+  Dual::ArmInput skewedF = inF;
+  skewedF.sensor_pose = skewed(inF.sensor_pose);
+  CHECK(central.step(inL, skewedF, 0.05, outL, outF) == Status::not_orthonormal);
+  CHECK(outL.velocity == uL0);
+  CHECK(outF.velocity == uF0);
+  CHECK(central.followerFeedforward() == ff0);
+  CHECK(central.arms().leaderFilter().filtered().mean.isApprox(filL0, 0));
+  CHECK(central.follower().pid().integral() == iF0);
+  CHECK(central.step(inL, inF, 0.05, outL, outF) == Status::ok);
+
+  // Termination: both arms stop, the feedforward too.
+  auto near = o;
+  near.arms.leader.target = scene.X_wsL * G(SO3<double>(), Eigen::Vector3d(0, 3, 10));
+  Central stop(near, Filter(), Filter());
+  outF.velocity.setOnes();
+  REQUIRE(stop.step(inL, inF, 0.05, outL, outF) == Status::ok);
+  CHECK(stop.terminated());
+  CHECK(outL.velocity.isZero());
+  CHECK(outF.velocity.isZero());
+  // reset() clears the filters and the feedforward
+  central.reset();
+  CHECK(!central.arms().leaderFilter().initialised());
+  CHECK(central.followerFeedforward().isZero());
 }

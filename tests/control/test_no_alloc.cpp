@@ -74,6 +74,9 @@ TEST_CASE("no allocation per step: pushing and dual-arm pushing with filters", "
   auto dopts = dualArmPushingPreset<double>(true);
   dopts.leader.target = G(SO3<double>(), Eigen::Vector3d(0, 100, 1e4));
   DualArmPushing<double> dual(dopts, DiscriminativeBayesFilter<G>(), DiscriminativeBayesFilter<G>());
+  auto copts = centralisedDualArmPushingPreset<double>(true);
+  copts.arms = dopts;
+  CentralisedDualArmPushing<double> central(copts, DiscriminativeBayesFilter<G>(), DiscriminativeBayesFilter<G>());
   const G X_ofF(SO3<double>::fromEulerXYZ(pi<double>(), 0, 0), Eigen::Vector3d(0, 0, 60));
   G X_wsL = dopts.leader.servo.reference, X_wsF = X_ofF * dopts.follower.reference, X_wo;
   G::Jacobian cov = G::Jacobian::Identity() * 0.01;
@@ -92,6 +95,7 @@ TEST_CASE("no allocation per step: pushing and dual-arm pushing with filters", "
       DualArmPushing<double>::ArmInput inF{X_wsF, {G::exp(-n) * X_wsF.inverse() * X_wo * X_ofF, cov}};
       DualArmPushing<double>::ArmOutput outL, outF;
       failures += dual.step(inL, inF, 0.02, outL, outF) != Status::ok;
+      failures += central.step(inL, inF, 0.02, outL, outF) != Status::ok;
       X_wsL = X_wsL * G::exp(0.02 * outL.velocity);
       X_wsF = X_wsF * G::exp(0.02 * outF.velocity);
       X_wo = X_wo * G::exp(0.02 * (V6() << 0, 0, 10, 0, 0, 0).finished());

@@ -71,7 +71,9 @@ TEST_CASE("contact: out of contact above the plane", "[sim][contact]") {
 }
 
 TEST_CASE("contact: shear sticks below the slip radius and slips beyond it", "[sim][contact]") {
-  ContactParams p;  // slip radius = clamp(1.5 z, 0.5, 5)
+  ContactParams p;  // slip radius = clamp(μ_c z / ρ_t, 0.05, 5) = 1.5 z here
+  p.skin_friction = 1.5;
+  p.gel_tangential_ratio = 1.0;
   ContactModel cm(p);
   const double z = 3.0;  // slip radius 4.5 mm
   SE3d X = sensorAt(z, 0, 0);

@@ -8,7 +8,6 @@ namespace lieservo::sim {
 
 void ContactParams::validate() const {
   requirePositive(tip_radius, "ContactParams.tip_radius");
-  requireNonNegative(slip_radius_per_depth, "ContactParams.slip_radius_per_depth");
   requirePositive(min_slip_radius, "ContactParams.min_slip_radius");
   requirePositive(max_slip_radius, "ContactParams.max_slip_radius");
   requirePositive(max_twist, "ContactParams.max_twist");
@@ -16,12 +15,16 @@ void ContactParams::validate() const {
     throw SceneError("ContactParams.min_slip_radius must be <= max_slip_radius");
   if (max_twist >= kPi / 2) throw SceneError("ContactParams.max_twist must be < 90 deg");
   requireNonNegative(skin_friction, "ContactParams.skin_friction");
+  requirePositive(gel_stiffness, "ContactParams.gel_stiffness");
+  requirePositive(gel_tangential_ratio, "ContactParams.gel_tangential_ratio");
 }
 
 ContactModel::ContactModel(const ContactParams& params) : params_(params) { params_.validate(); }
 
 double ContactModel::slipRadius(double depth) const {
-  return std::clamp(params_.slip_radius_per_depth * depth, params_.min_slip_radius, params_.max_slip_radius);
+  // The gel's slip law (contact_model.hpp): k_t |s| = μ_c k_gel z.
+  return std::clamp(params_.skin_friction * depth / params_.gel_tangential_ratio, params_.min_slip_radius,
+                    params_.max_slip_radius);
 }
 
 ContactModel::Anchor ContactModel::newAnchor(const SurfacePoint& sp, const SE3d& X_os) const {

@@ -21,15 +21,23 @@ constexpr double kMm = 1e-3;  // mm → m
 constexpr double kArmMass = 10;        // kg
 constexpr double kArmInertia = 0.05;   // kg m²
 constexpr double kGravity = 9.81;
-// The gel: the tip is a light body on three slide joints (the sensor frame's axes) with
-// spring stiffness k_gel, behind the arm's nominal tip (the sensor body). A push of F on the
-// tip deflects it by F/k_gel whatever the object's mass or inertia; the tip–object contact
-// itself is stiff (penetration ≈ 0.03 mm per N: kContactSolref, kContactSolimp). The tip's mass sets the gel's
-// natural frequency sqrt(k/m) (316 rad/s at 1 N/mm: ω dt = 0.8 at the 2.5 ms step, stable under
-// MuJoCo's semi-implicit Euler) and a sag under gravity of m g / k (0.1 mm).
+// The gel: the tip is a light body on three slide joints (the sensor frame's axes), springs
+// k_gel along z_s and ρ_t k_gel across, behind the arm's nominal tip (the sensor body). A push
+// of F on the tip deflects it by F/k whatever the object's mass or inertia; the tip–object
+// contact itself is stiff (penetration ≈ 0.03 mm per N: kContactSolref, kContactSolimp). The
+// tip's mass sets the gel's natural frequency sqrt(k/m) (283 rad/s at 0.8 N/mm: ω dt = 0.7 at
+// the 2.5 ms step, stable under MuJoCo's semi-implicit Euler); its weight is the arm's.
 constexpr double kTipMass = 0.01;  // kg
 constexpr const char* kContactSolref = "0.005 1";  // s, damping ratio: a stiff contact
 constexpr const char* kContactSolimp = "0.99 0.99 0.001";  // constant impedance near 1: stiff
+
+// The objects' base points (basePoints) are spheres of this radius (mm) resting on the support:
+// small, so that a tilted base still touches near its outline.
+constexpr double kBaseSphere = 1.0;
+// Base–support contact: constant impedance d and critical damping, τ set per object so that
+// it sinks by its Winkler depth (supportSolref).
+constexpr double kCompliantImpedance = 0.9;
+constexpr const char* kSupportSolimp = "0.9 0.9 0.001";
 
 const char* const kShapes[] = {"square", "rectangle", "circle", "hexagon"};
 const char* const kFixtureShapes[] = {"plate", "dome", "ramp"};
@@ -83,12 +91,23 @@ std::vector<std::pair<double, double>> segmentsOf(const ObjectSpec& o) {
 }
 std::string segmentName(const ObjectSpec& o, std::size_t k) { return k == 0 ? o.name : o.name + "_" + std::to_string(k); }
 
+// The support as a Winkler foundation: each of the n base points carries k_i = k_w A / n
+// (N/m). MuJoCo's soft contact settles where R f = k r (v = 0), with R = (1 − d)/d · Â the
+// regulariser (Â ≈ 1/m: the object's inverse weight), k = 1/(d τ² ζ²) (constant impedance
+// d): a point force f sinks by (1 − d) Â f τ², so τ = sqrt(n m / ((1 − d) k_w A)), ζ = 1.
+std::string supportSolref(const SupportSpec& support, const ObjectSpec& o) {
+  const double n = double(basePoints(o).size()), A = baseArea(o) * kMm * kMm;  // m²
+  const double kw = support.foundation_modulus / (kMm * kMm * kMm);              // N/m³
+  return num(std::sqrt(n * o.mass / ((1 - kCompliantImpedance) * kw * A))) + " 1";
+}
+
 }  // namespace
 
 void SceneSpec::validate() const {
   requirePositive(timestep, "timestep");
   requirePositive(impratio, "impratio");
   requireNonNegative(support.friction, "support friction");
+  requirePositive(support.foundation_modulus, "support foundation_modulus");
   std::set<std::string> names;
   for (const ObjectSpec& o : objects) {
     requireName(o.name, "object");
@@ -127,6 +146,7 @@ void SceneSpec::validate() const {
     const std::string p = "sensor '" + s.name + "' ";
     requirePositive(s.tip_radius, (p + "tip_radius").c_str());
     requirePositive(s.gel_stiffness, (p + "gel_stiffness").c_str());
+    requirePositive(s.gel_tangential_ratio, (p + "gel_tangential_ratio").c_str());
     requirePositive(s.gel_damping_ratio, (p + "gel_damping_ratio").c_str());
     requireValidPose(s.initial_pose, (p + "initial_pose").c_str());
   }
@@ -200,12 +220,10 @@ std::string sceneMjcf(const SceneSpec& spec) {
     }
     x << "  </asset>\n";
   }
-  // Object–support friction: MuJoCo takes the larger of the two geoms' coefficients, so the
-  // objects carry none of their own (0) and the support sets μ_s; condim 4 adds torsional
-  // friction, which resists turning on a point-like contact patch.
+  // The support touches the objects' base points only, through explicit pairs (below); no
+  // geom collides by type and affinity.
   x << "  <worldbody>\n"
-    << "    <geom name=\"support\" type=\"plane\" size=\"2 2 0.01\" condim=\"4\" friction=\""
-    << num(spec.support.friction) << " 0.005 0.0001\"/>\n";
+    << "    <geom name=\"support\" type=\"plane\" size=\"2 2 0.01\" contype=\"0\" conaffinity=\"0\"/>\n";
   for (const ObjectSpec& o : spec.objects) {
     const double h = o.height * kMm, s = o.size * kMm;
     x << "    <body name=\"" << o.name << "\" pos=\"" << num(o.x * kMm) << " " << num(o.y * kMm)
@@ -222,9 +240,16 @@ std::string sceneMjcf(const SceneSpec& spec) {
       else
         geom = "type=\"mesh\" mesh=\"" + segmentName(o, k) + "_mesh\"";
       // The mass split by height: the same density, so the same centre of mass and inertia.
+      // The body touches the sensors (pairs below), never the support.
       x << "      <geom name=\"" << segmentName(o, k) << "\" " << geom << " mass=\"" << num(o.mass * hs / h)
-        << "\" condim=\"4\" friction=\"0 0 0\"/>\n";
+        << "\" contype=\"0\" conaffinity=\"0\"/>\n";
     }
+    // The base: small massless spheres whose lowest points are the base points on z_o = 0.
+    const std::vector<Vec2> base = basePoints(o);
+    for (std::size_t k = 0; k < base.size(); ++k)
+      x << "      <geom name=\"" << o.name << "_base" << k << "\" type=\"sphere\" size=\"" << num(kBaseSphere * kMm)
+        << "\" pos=\"" << num(base[k].x() * kMm) << " " << num(base[k].y() * kMm) << " " << num(kBaseSphere * kMm)
+        << "\" mass=\"0\" contype=\"0\" conaffinity=\"0\" group=\"3\"/>\n";
     x << "    </body>\n";
   }
   for (const FixtureSpec& f : spec.fixtures) {
@@ -239,16 +264,18 @@ std::string sceneMjcf(const SceneSpec& spec) {
     // touches nothing (contype/conaffinity 0, no pairs) and gives the tactile depth
     // (tipGeometry). The gel carries the tip body (see kTipMass); the tip touches the objects
     // through the explicit pairs below only, never the support.
-    const double k = s.gel_stiffness / kMm;  // N/m
+    const double k = s.gel_stiffness / kMm;  // N/m, along z_s
     const double b = 2 * s.gel_damping_ratio * std::sqrt(k * kTipMass);
     x << "    <body name=\"" << s.name << "\" pos=\"" << num(s.initial_pose.translation()[0] * kMm) << " "
       << num(s.initial_pose.translation()[1] * kMm) << " " << num(s.initial_pose.translation()[2] * kMm)
       << "\" quat=\"" << quatOf(s.initial_pose.rotationMatrix()) << "\">\n"
       << drivenJoint(s.name) << "      <geom name=\"" << s.name << "_probe\" type=\"sphere\" size=\"" << num(s.tip_radius * kMm)
       << "\" contype=\"0\" conaffinity=\"0\" rgba=\"0 0 0 0\"/>\n      <body name=\"" << s.name << "_tip\">\n";
-    for (const char* axis : {"1 0 0", "0 1 0", "0 0 1"})
-      x << "        <joint type=\"slide\" axis=\"" << axis << "\" stiffness=\"" << num(k) << "\" damping=\"" << num(b)
+    const double kt = k * s.gel_tangential_ratio, bt = 2 * s.gel_damping_ratio * std::sqrt(kt * kTipMass);
+    for (const char* axis : {"1 0 0", "0 1 0"})
+      x << "        <joint type=\"slide\" axis=\"" << axis << "\" stiffness=\"" << num(kt) << "\" damping=\"" << num(bt)
         << "\"/>\n";
+    x << "        <joint type=\"slide\" axis=\"0 0 1\" stiffness=\"" << num(k) << "\" damping=\"" << num(b) << "\"/>\n";
     x << "        <geom name=\"" << s.name << "\" type=\"sphere\" size=\"" << num(s.tip_radius * kMm) << "\" mass=\""
       << num(kTipMass) << "\" contype=\"0\" conaffinity=\"0\" rgba=\"0.9 0.9 0.9 1\"/>\n      </body>\n    </body>\n";
   }
@@ -265,15 +292,26 @@ std::string sceneMjcf(const SceneSpec& spec) {
     for (int i = 0; i < f.segments; ++i) touchable.emplace_back(f.name + "_" + std::to_string(i), f.friction);
     touchable.emplace_back(f.name + "_bottom", f.friction);
   }
+  x << "  <contact>\n";
+  // Object–support: each base point on the support plane, sliding friction μ_s, no torsional
+  // friction (turning is resisted by the spread of the points); the object sinks by its
+  // Winkler depth (supportSolref).
+  for (const ObjectSpec& o : spec.objects) {
+    const std::string solref = supportSolref(spec.support, o);
+    const std::size_t n = basePoints(o).size();
+    for (std::size_t k = 0; k < n; ++k)
+      x << "    <pair geom1=\"support\" geom2=\"" << o.name << "_base" << k << "\" condim=\"3\" friction=\""
+        << num(spec.support.friction) << " " << num(spec.support.friction) << " 0 0 0\" solref=\"" << solref
+        << "\" solimp=\"" << kSupportSolimp << "\"/>\n";
+  }
   if (!spec.sensors.empty() && !touchable.empty()) {
-    x << "  <contact>\n";
     for (const SensorSpec& s : spec.sensors)
       for (const auto& [geom, mu] : touchable)
         x << "    <pair geom1=\"" << s.name << "\" geom2=\"" << geom << "\" condim=\"4\" friction=\"" << num(mu)
           << " " << num(mu) << " 0.005 0.0001 0.0001\" solref=\"" << kContactSolref << "\" solimp=\""
           << kContactSolimp << "\"/>\n";
-    x << "  </contact>\n";
   }
+  x << "  </contact>\n";
   x << "</mujoco>\n";
   return x.str();
 }
@@ -288,6 +326,60 @@ std::vector<Vec2> footprint(const ObjectSpec& o) {
   const double a0 = o.shape == "hexagon" ? kPi / 6 : 0.0;  // as hexagonMesh
   for (int k = 0; k < n; ++k) v.emplace_back(o.size * std::cos(a0 + 2 * kPi * k / n), o.size * std::sin(a0 + 2 * kPi * k / n));
   return v;
+}
+
+double baseArea(const ObjectSpec& o) {
+  if (o.shape == "circle") return kPi * o.size * o.size;
+  const std::vector<Vec2> v = footprint(o);
+  double a = 0;
+  for (std::size_t i = 0; i < v.size(); ++i) a += 0.5 * (v[i].x() * v[(i + 1) % v.size()].y() - v[(i + 1) % v.size()].x() * v[i].y());
+  return a;
+}
+
+double uniformPressureRadius(const ObjectSpec& o) {
+  if (o.shape == "circle") return 2 * o.size / 3;
+  // Over the triangle (axis, v_i, v_(i+1)) in polar coordinates about the axis, ∫∫ r dA =
+  // ∫ ρ(θ)³/3 dθ with ρ = d / cos(θ − θ_n) (d, θ_n: the edge line's distance and normal), and
+  // ∫ sec³ φ dφ = (sec φ tan φ + ln(sec φ + tan φ)) / 2.
+  const std::vector<Vec2> v = footprint(o);
+  auto F = [](double phi) {
+    const double sec = 1 / std::cos(phi), tan = std::tan(phi);
+    return 0.5 * (sec * tan + std::log(sec + tan));
+  };
+  double integral = 0;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const Vec2 a = v[i], b = v[(i + 1) % v.size()];
+    const Vec2 e = (b - a).normalized();
+    const Vec2 n(e.y(), -e.x());  // outward for a counter-clockwise outline
+    const double d = n.dot(a), theta_n = std::atan2(n.y(), n.x());
+    const double phi_a = std::remainder(std::atan2(a.y(), a.x()) - theta_n, 2 * kPi);
+    const double phi_b = std::remainder(std::atan2(b.y(), b.x()) - theta_n, 2 * kPi);
+    integral += d * d * d / 3 * (F(phi_b) - F(phi_a));
+  }
+  return integral / baseArea(o);
+}
+
+std::vector<Vec2> basePoints(const ObjectSpec& o) {
+  // The outer ring: a polygon's vertices and edge midpoints (8 for a rectangle, 12 for the
+  // hexagon), 8 points on a circle's rim (one on +x).
+  std::vector<Vec2> ring;
+  if (o.shape == "circle") {
+    for (int k = 0; k < 8; ++k) ring.emplace_back(o.size * std::cos(kPi * k / 4), o.size * std::sin(kPi * k / 4));
+  } else {
+    const std::vector<Vec2> v = footprint(o);
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      ring.push_back(v[i]);
+      ring.push_back(0.5 * (v[i] + v[(i + 1) % v.size()]));
+    }
+  }
+  double mean = 0;
+  for (const Vec2& p : ring) mean += p.norm();
+  mean /= double(ring.size());
+  // Equal loads: the mean distance of both rings is (1 + λ) mean / 2 = uniformPressureRadius.
+  const double lambda = 2 * uniformPressureRadius(o) / mean - 1;
+  std::vector<Vec2> points = ring;
+  for (const Vec2& p : ring) points.push_back(lambda * p);
+  return points;
 }
 
 double halfExtentX(const ObjectSpec& o) {
@@ -335,6 +427,9 @@ World::World(const SceneSpec& spec) : spec_(spec) {
     driven_.push_back(drivenBody(b, s.initial_pose));
     sensor_geom_.push_back(mj_name2id(m_, mjOBJ_GEOM, s.name.c_str()));
     sensor_probe_.push_back(mj_name2id(m_, mjOBJ_GEOM, (s.name + "_probe").c_str()));
+    const int tip_body = mj_name2id(m_, mjOBJ_BODY, (s.name + "_tip").c_str());
+    sensor_tip_body_.push_back(tip_body);
+    sensor_gel_qpos_.push_back(m_->jnt_qposadr[m_->body_jntadr[tip_body]]);
   }
   mj_forward(m_, d_);
 }
@@ -392,6 +487,12 @@ Status World::step(double dt) noexcept {
       xf[2] = kArmMass * kGravity;
       writeState(d);
     }
+    // The touching tip's weight is carried by the arm too: only the gel's springs act on it.
+    for (const int b : sensor_tip_body_) {
+      mjtNum* xf = d_->xfrc_applied + 6 * b;
+      std::fill(xf, xf + 6, 0.0);
+      xf[2] = kTipMass * kGravity;
+    }
     mj_step(m_, d_);
     for (int s = 0; s < sensorCount(); ++s) {
       Driven& d = driven_[size_t(sensor_driven_[size_t(s)])];
@@ -429,6 +530,12 @@ void World::applyObjectForce(int i, const Vec3& force_w, const Vec3& point_w) no
   const Vec3 torque = (p - com).cross(force_w);
   std::copy(force_w.data(), force_w.data() + 3, xf);
   std::copy(torque.data(), torque.data() + 3, xf + 3);
+}
+
+void World::applyObjectWrench(int i, const Vec3& force_w, const Vec3& torque_w) noexcept {
+  mjtNum* xf = d_->xfrc_applied + 6 * object_body_[size_t(i)];
+  std::copy(force_w.data(), force_w.data() + 3, xf);
+  std::copy(torque_w.data(), torque_w.data() + 3, xf + 3);
 }
 
 void World::clearForces() noexcept { std::fill(d_->xfrc_applied, d_->xfrc_applied + 6 * m_->nbody, 0.0); }
@@ -520,6 +627,26 @@ double World::tipNormalForce(int s) const noexcept {
     f += r[0];
   }
   return f;
+}
+
+Vec3 World::tipContactForce(int s) const noexcept {
+  const int tip = sensor_geom_[size_t(s)];
+  Vec3 total = Vec3::Zero();
+  for (int k = 0; k < d_->ncon; ++k) {
+    const mjContact& c = d_->contact[k];
+    if (c.geom1 != tip && c.geom2 != tip) continue;
+    mjtNum r[6];
+    mj_contactForce(m_, d_, k, r);  // in the contact frame, on geom2 from geom1
+    Vec3 f = Vec3::Zero();
+    for (int i = 0; i < 3; ++i) f += r[i] * Vec3(c.frame[3 * i], c.frame[3 * i + 1], c.frame[3 * i + 2]);
+    total += c.geom1 == tip ? f : Vec3(-f);
+  }
+  return total;
+}
+
+Vec3 World::gelDeflection(int s) const noexcept {
+  const double* q = d_->qpos + sensor_gel_qpos_[size_t(s)];
+  return Vec3(q[0], q[1], q[2]) / kMm;
 }
 
 }  // namespace lieservo::sim::mujoco

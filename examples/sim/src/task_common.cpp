@@ -7,6 +7,17 @@
 
 namespace lieservo::sim {
 
+void PhysicalRanges::validate() const {
+  auto range = [](const double (&r)[2], const char* name) {
+    requirePositive(r[0], name);
+    requirePositive(r[1], name);
+    if (r[0] > r[1]) throw SceneError(std::string(name) + " must be an interval [low, high] with low <= high");
+  };
+  range(support_friction_scale, "PhysicalRanges.support_friction_scale");
+  range(skin_friction, "PhysicalRanges.skin_friction");
+  range(gel_stiffness, "PhysicalRanges.gel_stiffness");
+}
+
 void TaskOptions::validate() const {
   requirePositive(control_rate, "TaskOptions.control_rate");
   if (control_rate > 1000) throw SceneError("TaskOptions.control_rate must be <= 1000 Hz");
@@ -15,6 +26,7 @@ void TaskOptions::validate() const {
   calibration.validate();
   arm.validate();
   contact.validate();
+  ranges.validate();
 }
 
 void Stat::add(double v) {
@@ -30,10 +42,12 @@ void Stat::finish() {
   rms = std::sqrt(rms / double(n));
 }
 
-// The paper's prisms (Figures 8–9: masses; sizes: side, radius, circumradius) and tall
-// everyday-like objects built from primitives. The everyday objects' sizes approximate the
-// YCB objects the paper used (mustard bottle, coffee tin) and a wine bottle; their masses are
-// the paper's (Figure 9).
+// The paper's prisms (Figures 8–9: masses; sizes: side, radius, circumradius) and its five
+// tall everyday objects (Section 4.3, sec:test_objects) built from primitives with uniform
+// density. The everyday objects' masses are the paper's (Figure 9); their sizes are
+// approximate: the YCB object set's (Calli et al. 2015) mustard bottle, cream cleanser ("Soft
+// Scrub") and Windex bottles as boxes of their base and height, its large coffee tin as a
+// cylinder, the glass bottle a wine bottle's (no YCB object).
 std::vector<ObjectSpec> shortObjects() {
   auto prism = [](const char* name, const char* shape, double size, double mass) {
     ObjectSpec o;
@@ -54,12 +68,17 @@ std::vector<ObjectSpec> tallObjects() {
   return v;
 }
 std::vector<ObjectSpec> everydayObjects() {
-  ObjectSpec mustard, glass, tin;
-  mustard.name = "mustard_bottle", mustard.shape = "rectangle", mustard.size = 58, mustard.size2 = 95;
-  mustard.height = 190, mustard.mass = 0.237;
-  glass.name = "glass_bottle", glass.shape = "circle", glass.size = 37, glass.height = 290, glass.mass = 0.641;
-  tin.name = "coffee_tin", tin.shape = "circle", tin.size = 55, tin.height = 160, tin.mass = 0.214;
-  return {mustard, glass, tin};
+  auto object = [](const char* name, const char* shape, double size, double size2, double height, double mass) {
+    ObjectSpec o;
+    o.name = name, o.shape = shape, o.size = size, o.size2 = size2, o.height = height, o.mass = mass;
+    return o;
+  };
+  // Rectangles: `size` along the push, `size2` across it (the pushed face).
+  return {object("mustard_bottle", "rectangle", 58, 95, 190, 0.237),
+          object("cleaner_bottle", "rectangle", 65, 98, 250, 0.161),
+          object("windex_spray", "rectangle", 80, 105, 270, 0.339),
+          object("glass_bottle", "circle", 37, 0, 290, 0.641),
+          object("coffee_tin", "circle", 55, 0, 160, 0.214)};
 }
 std::string displayName(const ObjectSpec& o) {
   std::string n = o.name;
@@ -72,7 +91,6 @@ void PushingSetup::validate() const {
   scene.support = surface;
   scene.objects = {object};
   scene.validate();  // names the object's bad parameter
-  requirePositive(gel_stiffness, "PushingSetup.gel_stiffness");
   requirePositive(sensor_height, "PushingSetup.sensor_height");
   if (sensor_height >= object.height)
     throw SceneError("PushingSetup.sensor_height must be below the object's top (the tip must touch a side face)");
@@ -80,7 +98,6 @@ void PushingSetup::validate() const {
   requirePositive(follower_depth, "PushingSetup.follower_depth");
   if (initial_depth >= 20 || follower_depth >= 20) throw SceneError("PushingSetup depths must be < tip radius");
   requirePositive(timeout, "PushingSetup.timeout");
-  requireNonNegative(follower_y_gain, "PushingSetup.follower_y_gain");
   if (!start.allFinite() || !target.allFinite()) throw SceneError("PushingSetup start/target must be finite");
   if ((target - start).norm() < 100) throw SceneError("PushingSetup target must be >= 100 mm from the start");
 }
@@ -103,6 +120,8 @@ PaperValue paperDualArm(const std::string& o, const std::string& s, bool tall) {
     if (o == "tall_red_square") return {4.94, 0.19};
     if (o == "tall_yellow_hexagon") return {4.73, 0.38};
     if (o == "mustard_bottle") return {6.24, 2.33};
+    if (o == "cleaner_bottle") return {7.02, 0.95};
+    if (o == "windex_spray") return {4.59, 1.36};
     if (o == "glass_bottle") return {6.42, 0.39};
     if (o == "coffee_tin") return {4.81, 2.09};
     return {nan, nan};

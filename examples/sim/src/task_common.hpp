@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <string>
 
 #include <lieservo/estimation/bayes_filter.hpp>
 #include <lieservo/estimation/concentrated_gaussian.hpp>
@@ -56,6 +57,18 @@ inline constexpr double kTimestep = 0.0025;
 /// MuJoCo steps per control period dt: the whole number nearest dt / kTimestep (at least 1),
 /// so that a period is a whole number of steps of length dt / stepsPerPeriod(dt).
 inline int stepsPerPeriod(double dt) { return std::max(1, int(std::lround(dt / kTimestep))); }
+
+/// A TacTip sensor of the scene at X_ws with the gel of `contact` (one contact truth: the
+/// engine's gel and the ContactModel's slip law share k_gel, ρ_t and μ_c).
+inline mujoco::SensorSpec sensorSpec(const std::string& name, const ContactParams& contact, const SE3d& X_ws) {
+  mujoco::SensorSpec s;
+  s.name = name;
+  s.tip_radius = contact.tip_radius;
+  s.gel_stiffness = contact.gel_stiffness;
+  s.gel_tangential_ratio = contact.gel_tangential_ratio;
+  s.initial_pose = X_ws;
+  return s;
+}
 
 /// One sensorised arm in the MuJoCo world: the arm, the tactile contact state, its
 /// observations (TaskOptions::observations, or its own seeded Gaussian model) and the Bayes

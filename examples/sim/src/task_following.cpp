@@ -118,11 +118,7 @@ mujoco::SceneSpec followingScene(const mujoco::FixtureSpec& fixture, const SE3d&
   scene.timestep = 1.0 / opt.control_rate / detail::stepsPerPeriod(1.0 / opt.control_rate);
   scene.fixtures = {fixture};
   scene.fixtures[0].friction = opt.contact.skin_friction;
-  mujoco::SensorSpec sensor;
-  sensor.name = "sensor";
-  sensor.tip_radius = opt.contact.tip_radius;
-  sensor.initial_pose = X_ws0;
-  scene.sensors = {sensor};
+  scene.sensors = {detail::sensorSpec("sensor", opt.contact, X_ws0)};
   return scene;
 }
 

@@ -81,11 +81,9 @@ TrackingResult runObjectTracking(const TaskOptions& opt) {
   plate.friction = opt.contact.skin_friction;
   scene.fixtures = {plate};
   // Follower: z_s = −z_w, x_s = x_w, y_s = −y_w, tip centre R − 6 mm above the plate.
-  mujoco::SensorSpec sensor;
-  sensor.name = "follower";
-  sensor.tip_radius = R;
-  sensor.initial_pose = makePose(fromColumns(Vec3::UnitX(), -Vec3::UnitY(), -Vec3::UnitZ()), Vec3(0, 0, R - ref_depth));
-  scene.sensors = {sensor};
+  scene.sensors = {detail::sensorSpec(
+      "follower", opt.contact,
+      makePose(fromColumns(Vec3::UnitX(), -Vec3::UnitY(), -Vec3::UnitZ()), Vec3(0, 0, R - ref_depth)))};
   mujoco::World world(scene);
   EngineArm follower(world, 0, opt, opt.seed * 7919 + 11);
   lieservo::TactileServoController<SE3d> ctrl(lieservo::objectTrackingPreset<double>());

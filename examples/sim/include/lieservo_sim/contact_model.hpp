@@ -17,13 +17,17 @@
 // so that X_fs = X_wf⁻¹ X_ws has Euler components (x, y, z, α, β, γ) = (s_x, s_y, depth,
 // tilt angles, twist): exactly the paper's X_fs = X_∥ X_⊥ with R_fs = Rz(γ) Ry(β) Rx(α).
 //
-// Friction (stick/slip).  The shear sticks until |s| exceeds the slip radius
-//     r_slip(z) = clamp(k_slip · z, r_min, r_max)     (deeper contact → more normal force →
-//                                                      larger friction-limited shear)
-// and the twist until |γ| exceeds γ_max; beyond that the anchor slides (p_a, t_a move) so the
-// shear stays on the limit (kinetic friction), which is what "slip" looks like to the GDN.
-// Default r_max = 5 mm and γ_max = 5° are the ranges of the paper's training data
-// (Section 3.1.2, sec:data_collection: shear disk radius 5 mm, γ ∈ [−5°, 5°], "chosen to limit slippage").
+// Friction (stick/slip): one law with the engine's gel contact. The gel (mujoco_world.hpp)
+// is a spring of stiffness k_gel along the sensor axis and k_t = ρ_t k_gel across it, so a
+// contact at depth z presses with N ≈ k_gel z and a sticking shear s pulls sideways with
+// k_t |s|; it slides when k_t |s| > μ_c N, i.e. beyond the slip radius
+//     r_slip(z) = clamp(μ_c z / ρ_t, r_min, r_max)       (μ_c: skin_friction, ρ_t:
+//                                                           gel_tangential_ratio)
+// and the twist beyond γ_max; then the anchor slides (p_a, t_a move) so the shear stays on
+// the limit (kinetic friction), which is what "slip" looks like to the GDN. r_max = 5 mm and
+// γ_max = 5° are the ranges of the paper's training data (Section 3.1.2, sec:data_collection:
+// shear disk radius 5 mm, γ ∈ [−5°, 5°], "chosen to limit slippage"), beyond which the GDN
+// has seen no image. The gel has no torsional spring, so γ_max is the model's own.
 //
 // The anchor lives in the object frame, so a moving object (tracking leader, pushed prism)
 // drags the contact with it.  Out of contact (z ≤ 0) the anchor is released.
@@ -44,16 +48,29 @@ struct SurfacePoint {
   double signed_distance = 0;   ///< of the tip centre; > 0 outside the solid
 };
 
+/// The gel's tangential over normal stiffness: Mindlin's ratio 2(1 − ν)/(2 − ν) for an
+/// elastic contact, 2/3 for an incompressible gel (ν = 0.5). With μ_c = 0.8 the contact slips
+/// beyond 1.2 z, which is where the real TacTip data's shear saturates (docs/simulation.md,
+/// "The gel and its slip, from the data").
+inline constexpr double kGelTangentialRatio = 2.0 / 3.0;
+/// k_gel (N/mm): the secant F/d of a Hertz contact of the 20 mm tip (E* ≈ 0.1 MPa, assumed:
+/// F = (4/3) E* √R d^1.5) at the 1.5–2.5 N of a push.
+inline constexpr double kGelStiffness = 0.8;
+
 struct ContactParams {
   double tip_radius = 20.0;           ///< R (mm): 40 mm diameter hemispherical TacTip
-  double slip_radius_per_depth = 1.5; ///< k_slip (mm of shear per mm of depth)
-  double min_slip_radius = 0.5;       ///< r_min (mm)
+  double min_slip_radius = 0.05;      ///< r_min (mm)
   double max_slip_radius = 5.0;       ///< r_max (mm): paper's shear training radius
   double max_twist = deg(5.0);        ///< γ_max (rad): paper's γ training range
-  /// μ_c, skin–object sliding friction in the MuJoCo scenes: the TacTip's rubber-like skin
-  /// (Agilus 30, paper sec. on the sensor) on smooth plastic; assumed (rubber on plastic is
-  /// typically 0.5–1), not measured. docs/simulation.md reports the results' sensitivity to it.
+  /// μ_c, skin–object sliding friction, in the MuJoCo scenes and in the slip radius: the
+  /// TacTip's rubber-like skin (Agilus 30, paper Section 4.2, sec:tactile_sensor) on smooth
+  /// plastic; assumed (rubber on plastic is typically 0.5–1), not measured. docs/simulation.md
+  /// reports the results' sensitivity to it.
   double skin_friction = 0.8;
+  /// k_gel (N/mm): the gel's normal force per mm of contact depth (mujoco::SensorSpec).
+  double gel_stiffness = kGelStiffness;
+  /// ρ_t = k_t / k_gel: the gel's tangential stiffness over its normal one (mujoco::SensorSpec).
+  double gel_tangential_ratio = kGelTangentialRatio;
 
   void validate() const;              ///< throws SceneError
 };

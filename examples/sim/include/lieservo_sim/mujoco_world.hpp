@@ -15,11 +15,15 @@
 // friction on a sliding tip acts. Its tip is a sphere of radius
 // 20 mm (the 40 mm TacTip's hemisphere; the back half never touches in these tasks). The
 // compliant gel is a spring between the arm's nominal tip and the touching tip: the tip is a
-// light body on three slide joints with stiffness k_gel (SensorSpec::gel_stiffness), so a
-// contact depth d (the surface inside the nominal tip sphere) presses with ≈ k_gel d, whatever
-// the object's mass, and a sticking contact shears the gel sideways. Tip contacts are stiff,
-// with elliptic friction cones, a high impratio (no creeping slip) and condim 4 (torsional
+// light body on three slide joints with stiffness k_gel along z_s and ρ_t k_gel across
+// (SensorSpec), so a contact depth d (the surface inside the nominal tip sphere) presses with
+// ≈ k_gel d, whatever the object's mass, and a sticking contact shears the gel sideways. Tip
+// contacts are stiff, with elliptic friction cones, impratio 10 and condim 4 (torsional
 // friction, the twist γ).
+//
+// Objects touch the support at their base points only (basePoints: two rings of equally
+// loaded points whose mean radius is the uniform-pressure one), each a spring of a Winkler
+// foundation (SupportSpec::foundation_modulus) with sliding friction μ_s.
 #pragma once
 
 #include <string>
@@ -34,14 +38,23 @@ struct mjData_;
 
 namespace lieservo::sim::mujoco {
 
-/// The surface the objects stand on, with its friction against them (sliding μ_s).
+/// The surface the objects stand on, with its friction against them (sliding μ_s) and its
+/// compliance.
 struct SupportSpec {
   std::string name = "MDF";
   double friction = 0.35;  ///< μ_s, object–support sliding friction
-  /// The paper's two supports: soft foam (μ_s 0.6, the object beds in) and a hard MDF board
-  /// (μ_s 0.35). Both are assumptions of plausible friction coefficients (docs/simulation.md).
-  static SupportSpec foam() { return {"foam", 0.6}; }
-  static SupportSpec mdf() { return {"MDF", 0.35}; }
+  /// k_w (N/mm³): pressure per mm of sink (a Winkler foundation: E / t for a sheet of
+  /// compressive modulus E and thickness t), so an object of mass m on base area A beds in by
+  /// m g / (k_w A) and its base's load shifts linearly under a tipping moment.
+  double foundation_modulus = 0.05;
+  /// The paper's two supports: foam (μ_s 0.6; a 10 mm sheet of E ≈ 100 kPa, k_w = 0.01
+  /// N/mm³: the objects bed in by 0.02–0.15 mm) and a hard MDF board (μ_s 0.35; k_w = 0.05
+  /// N/mm³: 2–30 µm, the compliance of the objects' printed bases on it). All are assumed
+  /// plausible values (docs/simulation.md, "What is assumed").
+  static SupportSpec foam() { return {"foam", 0.6, 0.01}; }
+  static SupportSpec mdf() { return {"MDF", 0.35, 0.05}; }
+  /// The rigid support of the statics checks (toppleAnalysis): k_w = 1 N/mm³ (sinks < 2 µm).
+  static SupportSpec rigid(double friction) { return {"rigid", friction, 1.0}; }
 };
 
 /// A rigid object standing on the support: a vertical prism.
@@ -92,12 +105,15 @@ struct FixtureSpec {
 struct SensorSpec {
   std::string name = "sensor";
   double tip_radius = 20;  ///< mm: hemispherical tip of the 40 mm TacTip
-  /// N/mm: normal force per mm of contact depth. A soft silicone-gel tip of radius R pressed
-  /// to depth d gives F = (4/3) E* sqrt(R) d^(3/2) (Hertz); with an assumed E* ≈ 0.1 MPa (a
-  /// soft silicone gel) and R = 20 mm that is ≈ 0.6 N/mm at 1 mm and 1.5 N/mm at 6 mm; the
-  /// linear 1 N/mm used here sits between them (0–6 N over the 0–6 mm depth range).
-  double gel_stiffness = 1.0;
-  /// ζ of the gel spring: damping 2ζ sqrt(k_gel m_tip) on each slide joint.
+  /// N/mm: normal force per mm of contact depth (the spring along z_s). A soft silicone-gel
+  /// tip of radius R pressed to depth d gives F = (4/3) E* sqrt(R) d^(3/2) (Hertz); with an
+  /// assumed E* ≈ 0.1 MPa and R = 20 mm that is 0.6 N at 1 mm and 2.6 N at 3 mm; the linear
+  /// 0.8 N/mm is its secant at the 1.5–2.5 N of a push.
+  double gel_stiffness = 0.8;
+  /// k_t / k_gel: the gel's stiffness across the sensor axis (x_s, y_s) over k_gel; 2/3 is
+  /// Mindlin's ratio for an incompressible elastic contact.
+  double gel_tangential_ratio = 2.0 / 3.0;
+  /// ζ of the gel spring: damping 2ζ sqrt(k m_tip) on each slide joint (k its stiffness).
   double gel_damping_ratio = 1.0;
   SE3d initial_pose = SE3d::identity();  ///< X_ws (mm)
 };
@@ -150,6 +166,9 @@ class World {
   /// An external force F (N, work frame) on object i at point p (mm, work frame), held until
   /// changed (clearForces): a disturbance, or a known push for checks against hand calculations.
   void applyObjectForce(int i, const Vec3& force_w, const Vec3& point_w) noexcept;
+  /// A force at the centre of mass and a torque (N, N·m, work frame) on object i, held until
+  /// changed (clearForces).
+  void applyObjectWrench(int i, const Vec3& force_w, const Vec3& torque_w) noexcept;
   void clearForces() noexcept;
 
   /// X_wo of fixture j (mm).
@@ -174,6 +193,12 @@ class World {
   /// tipGeometry's depth is measured from the arm's nominal tip, so it includes the gel's
   /// deflection.
   double tipNormalForce(int s) const noexcept;
+  /// The total force (N, work frame) that sensor s's tip exerts on what it touches, from
+  /// MuJoCo's contact forces (normal and friction).
+  Vec3 tipContactForce(int s) const noexcept;
+  /// The tip's gel deflection (mm, sensor frame): where the touching tip sits relative to the
+  /// arm's nominal tip (the three slide joints).
+  Vec3 gelDeflection(int s) const noexcept;
 
   int objectCount() const noexcept { return int(spec_.objects.size()); }
   int fixtureCount() const noexcept { return int(spec_.fixtures.size()); }
@@ -198,7 +223,7 @@ class World {
   std::vector<std::pair<int, int>> object_geoms_;   // [first, last) geom ids
   std::vector<int> fixture_body_, fixture_driven_;  // fixture_driven_: index in driven_, or −1 (fixed)
   std::vector<std::pair<int, int>> fixture_geoms_;  // [first, last) geom ids
-  std::vector<int> sensor_driven_, sensor_geom_, sensor_probe_;
+  std::vector<int> sensor_driven_, sensor_geom_, sensor_probe_, sensor_gel_qpos_, sensor_tip_body_;
   std::vector<Driven> driven_;
 };
 
@@ -211,6 +236,18 @@ double rampHeight(const FixtureSpec& ramp, double y);
 /// The object's base outline in its own frame (mm, counter-clockwise; a circle as a 48-gon),
 /// for plots.
 std::vector<Vec2> footprint(const ObjectSpec& object);
+/// Base area (mm²).
+double baseArea(const ObjectSpec& object);
+/// Mean distance from the axis over the base under uniform pressure (mm): the breakaway
+/// torque over the breakaway force of a flat base sliding on a plane (0.383 a for a square of
+/// side a, 2R/3 for a disc; exact for the polygons).
+double uniformPressureRadius(const ObjectSpec& object);
+/// The points (object frame, mm, on the base plane) at which the object touches the support:
+/// two rings of equally loaded points, the outline (polygon vertices and edge midpoints; 12
+/// points on a circle's rim, one on +x) and the same ring scaled by λ, with λ chosen so that
+/// the points' mean distance from the axis is uniformPressureRadius(): the base turns and
+/// slides as a uniformly pressed flat base does, and tips about its true outline.
+std::vector<Vec2> basePoints(const ObjectSpec& object);
 /// Distance from the object's axis to its side face along +x_o (mm): where a push along −x_o
 /// meets it.
 double halfExtentX(const ObjectSpec& object);

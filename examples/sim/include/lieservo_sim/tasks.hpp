@@ -29,6 +29,15 @@
 
 namespace lieservo::sim {
 
+/// The ranges (uniform draws, per pushing trial) of the physical parameters that are assumed
+/// rather than measured (docs/simulation.md, "What is assumed").
+struct PhysicalRanges {
+  double support_friction_scale[2] = {0.7, 1.3};  ///< × the support's μ_s (foam 0.42–0.78, MDF 0.25–0.46)
+  double skin_friction[2] = {0.5, 1.0};           ///< μ_c: rubber-like skin on smooth plastic
+  double gel_stiffness[2] = {0.6, 1.5};           ///< k_gel (N/mm): Hertz secants of E* = 0.1 MPa at 1–6 mm
+  void validate() const;                          ///< throws SceneError
+};
+
 struct TaskOptions {
   double control_rate = 20.0;   ///< Hz, tactile loop (camera rate); the presets assume 20 Hz
   std::uint64_t seed = 1;
@@ -43,6 +52,10 @@ struct TaskOptions {
   std::shared_ptr<ObservationSource> observations;
   ArmLimits arm{};
   ContactParams contact{};
+  /// Pushing trials draw the assumed physical parameters (μ_s, μ_c, k_gel) from `ranges`
+  /// instead of using the defaults (μ_s still ±10 % around the support's).
+  bool randomise = false;
+  PhysicalRanges ranges{};
   void validate() const;        ///< throws SceneError
 };
 
@@ -97,7 +110,8 @@ using mujoco::SupportSpec;
 
 std::vector<ObjectSpec> shortObjects();    ///< the four prisms of Section 5.6 (sec:single_arm_object_pushing_exp)
 std::vector<ObjectSpec> tallObjects();     ///< their double-height versions (Figure 9 masses)
-std::vector<ObjectSpec> everydayObjects(); ///< tall everyday-like objects from primitives
+std::vector<ObjectSpec> everydayObjects(); ///< the five tall everyday objects of Figure 9, from primitives
+std::vector<ObjectSpec> tallAndEverydayObjects();  ///< tallObjects() then everydayObjects()
 /// The object's name for tables and plots ("blue_square" → "blue square").
 std::string displayName(const ObjectSpec& object);
 
@@ -106,16 +120,15 @@ struct PushingSetup {
   SupportSpec surface = SupportSpec::mdf();
   bool dual_arm = false;
   bool tall = false;               ///< tall-object reference offsets (Section 5.7.2, sec:dual_arm_tall_object_pushing)
-  double gel_stiffness = 1.0;      ///< N/mm (mujoco::SensorSpec::gel_stiffness)
+  /// Dual arm: false = the paper's decentralised follower (DualArmPushing, Table 9); true =
+  /// the centralised follower (CentralisedDualArmPushing), not the paper's controller.
+  bool centralised = false;
   Vec2 start{-250, 100};           ///< leader sensor (x, y) on the support (mm)
   Vec2 target{0, 375};             ///< (x, y)
   double sensor_height = 45;       ///< height of the sensor axis above the support (mm)
   double initial_depth = 1.0;      ///< leader contact depth at the start (mm)
   double follower_depth = 3.0;     ///< follower contact depth at the start (mm)
   double timeout = 120;            ///< s; a trial also stops after 1 s with the leader out of contact
-  /// 0: the paper's follower (Table 9: no gain on the tangential y). > 0: the named variant
-  /// "follower + y": Kp on y (1/s), with z's Ki/Kp and Kd/Kp ratios (docs/simulation.md).
-  double follower_y_gain = 0;
   void validate() const;           ///< throws SceneError
 };
 struct PushTrial {
@@ -134,10 +147,19 @@ struct PushTrial {
   double max_leader_depth = 0, max_follower_depth = 0, min_follower_depth = 1e9;
   double max_tilt = 0;          ///< largest tilt of the object's axis from vertical (deg)
   bool toppled = false;         ///< the tilt passed Bounds::topple_tilt (the trial stops)
+  /// Dual arm: the angle between the two contact normals (deg, 180 = opposite) per control
+  /// step with both arms in contact (NaN otherwise), and its smallest value.
+  std::vector<double> opposition;
+  double min_opposition = 180;
+  /// Mean vertical force (N, +z up) each tip exerted on the object over the steps in contact.
+  double leader_vertical_force = 0, follower_vertical_force = 0;
+  /// The physical parameters this trial ran with (drawn with TaskOptions::randomise).
+  double support_friction = 0, skin_friction = 0, gel_stiffness = 0;
   std::vector<Vec3> sensor_path, follower_path;  ///< (x, y, z) per control step
   std::vector<Vec3> object_path;                 ///< (x, y, θ) per control step
   std::vector<double> bearing, alignment_velocity;  ///< θ_s' (deg), alignment u_y (mm/s) per step
   std::vector<double> leader_depth, leader_tilt, follower_depth;  ///< true depth (mm), α (deg)
+  std::vector<double> object_tilt;                  ///< the object's tilt from vertical (deg) per step
 };
 struct PushingCase {
   PushingSetup setup;
@@ -146,7 +168,9 @@ struct PushingCase {
   int reached_trials = 0;          ///< trials that met the termination rule within the timeout
   int follower_kept_trials = 0;    ///< dual arm: trials in which the follower never lost contact
   int toppled_trials = 0;
-  /// false: reported only (single-arm pushes of tall objects: how many topple).
+  double min_opposition = 180;     ///< dual arm: smallest opposition angle over the trials (deg)
+  /// false: reported only (single-arm pushes of tall objects: how many topple; the paper's
+  /// follower on round objects); its failures do not decide the result.
   bool judged = true;
   bool success = false;
   std::vector<std::string> failures;
@@ -160,22 +184,52 @@ PushingCase runPushingCase(const PushingSetup& setup, const TaskOptions& opt, in
 struct PushingResult {
   std::vector<PushingCase> cases;
   double sim_time = 0;  ///< s simulated, all trials
-  bool success = false;
-  std::vector<std::string> failures;
+  bool success = false;             ///< every judged case met its criteria
+  std::vector<std::string> failures;  ///< of the judged cases
+  std::vector<std::string> reported;  ///< misses of the unjudged cases
 };
 /// (c) the four short prisms on foam and MDF, single arm.
 PushingResult runSingleArmPushing(const TaskOptions& opt, int trials = 5);
 /// (d) dual arm: the short prisms on foam and MDF, then the tall prisms and the everyday objects
-/// on MDF. follower_y_gain > 0 runs the named variant "follower + y" (not the paper's Table 9);
-/// round_only keeps the round objects (circle, glass bottle, coffee tin) only.
-PushingResult runDualArmPushing(const TaskOptions& opt, int trials = 5, double follower_y_gain = 0,
-                                bool round_only = false);
-/// The tall prisms and everyday objects pushed by one arm on MDF: reported (how many topple),
-/// not judged.
+/// on MDF, with the paper's decentralised follower or (`centralised`) the centralised one.
+/// With the paper's follower the round objects are run and reported but not judged
+/// (docs/simulation.md: its follower loses opposition on them).
+PushingResult runDualArmPushing(const TaskOptions& opt, int trials = 5, bool centralised = false);
+/// The tall prisms and everyday objects pushed by one arm on the compliant foam: reported (how
+/// many topple), not judged.
 PushingResult runTallSingleArmPushing(const TaskOptions& opt, int trials = 5);
+/// Whether an object is round (circle: the glass bottle, the coffee tin, the circles).
+bool isRound(const ObjectSpec& object);
+
+// ---- toppling by statics and by the engine ---------------------------------------------------
+/// A tall object pushed horizontally at height h on a rigid support with friction μ_s slides
+/// (at F = μ_s m g) before it tips (at F = m g w / (2 h), w the base width along the push)
+/// when μ_s h < w / 2. Critical values by statics and found in the engine (bisection on a
+/// slowly ramped push at the middle of the face, along +x_o) on SupportSpec::rigid.
+struct ToppleRow {
+  ObjectSpec object;
+  double push_height = 45;                 ///< mm, for the critical μ_s
+  double support_friction = 0.35;          ///< μ_s, for the critical height
+  /// h* (mm) at support_friction; +inf for both when the object, pushed at its top, slides
+  /// (statics: w / (2 μ_s) is above it; engine: no tip there).
+  double statics_height = 0, engine_height = 0;
+  double statics_friction = 0, engine_friction = 0;  ///< μ_s* at push_height
+};
+/// Bisects in the engine to `tolerance` (relative).
+ToppleRow toppleAnalysis(const ObjectSpec& object, double support_friction = 0.35, double push_height = 45,
+                         double tolerance = 0.01);
+/// toppleAnalysis of each object (at the defaults), on all cores.
+std::vector<ToppleRow> toppleTable(const std::vector<ObjectSpec>& objects);
+/// One engine trial: does a force ramped slowly to 2 μ_s m g at height h (mm) on the −x face
+/// tip the object (tilt > 10°) before it slides 20 mm?
+bool tipsBeforeSliding(const ObjectSpec& object, double support_friction, double push_height);
 /// The paper-style 2-D plot of pushing cases (one panel each: the object at the start and the
 /// end of the first trial, both sensors' paths, the target), as the runners write it.
 void writePushingPlot(const std::vector<const PushingCase*>& cases, const std::string& path, const std::string& title);
+
+/// The opposition angle over time (trial 1) of each round-object case, the paper's follower
+/// (`paper`) beside the centralised one (`centralised`): one panel per case.
+void writeOppositionPlot(const PushingResult& paper, const PushingResult& centralised, const std::string& path);
 
 /// Paper values for the tables (mean, sd in mm); NaN when not reported.
 struct PaperValue {
@@ -200,6 +254,7 @@ struct Bounds {
   // every control step, and
   static constexpr double pushing_error_max = 10.0;     ///< mm, any trial (paper worst mean 9.45)
   static constexpr double upright_tilt_max = 10.0;      ///< deg: dual-arm pushes keep objects upright
+  static constexpr double opposition_min = 150.0;       ///< deg: dual-arm contact normals stay opposed
   static constexpr double topple_tilt = 45.0;           ///< deg: past this an object has toppled
 };
 

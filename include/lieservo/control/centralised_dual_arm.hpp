@@ -1,0 +1,155 @@
+// lieservo/control/centralised_dual_arm.hpp — dual-arm pushing with a centralised follower
+// (paper: Section 3.3.4 (sec:single_dual_arm_controllers), the "centralised, more coordinated"
+// alternative to the decentralised leader–follower of DualArmPushing).
+//
+// The leader runs the paper's pushing controller and the follower its stabilising servo
+// (Table 9), each on its own filter, exactly as in DualArmPushing. What is centralised is the
+// follower's feedforward: it is computed from both arms' proprioceptive sensor poses X_wL,
+// X_wF and the leader's commanded twist u_L = [v_L; ω_L], so that the follower keeps
+// opposition (its sensor axis z_F against the leader's z_L) while the leader steers:
+//
+//   R_FL = R_wFᵀ R_wL,  a = R_FL e_z       the leader's axis in the follower's frame (a = −e_z
+//                                          when the two face each other)
+//   v_op = k_op (a_x, a_y, 0)              across the follower's axis, norm clipped at v_op,max
+//   v_push = R_FL (0, 0, v_L,z)            the leader's push: the object recedes from the
+//                                          follower as fast
+//   u_F = u_servo,F + [v_op + v_push; 0]
+//
+// The follower's servo keeps its axis normal to its face, so on a round object its axis turns
+// as it moves round: moving along (a_x, a_y) turns it towards −z_L, and it follows a leader
+// whose alignment walks it round the object, where the decentralised follower (no tangential
+// gain) stays on its line and loses opposition (docs/simulation.md shows the opposition angle
+// of both). On parallel faces a = −e_z already and the follower stays where it is, as the
+// paper's does.
+//
+// Lifecycle as DualArmPushing: Options, validate, configure, step (noexcept, allocation-free;
+// on any non-ok Status nothing changes), reset. Translation units are the caller's (the
+// presets: mm), angles in radians.
+#pragma once
+
+#include <cmath>
+
+#include <Eigen/Core>
+
+#include <lieservo/control/dual_arm.hpp>
+#include <lieservo/groups/perturbation.hpp>
+#include <lieservo/groups/se3.hpp>
+#include <lieservo/status.hpp>
+
+namespace lieservo {
+
+template <class Scalar, class Filter = DiscriminativeBayesFilter<SE3<Scalar>>>
+class CentralisedDualArmPushing {
+ public:
+  using Arms = DualArmPushing<Scalar, Filter>;
+  using Group = typename Arms::Group;
+  using Tangent = typename Arms::Tangent;
+  using ArmInput = typename Arms::ArmInput;
+  using ArmOutput = typename Arms::ArmOutput;
+  using Vec3 = Eigen::Matrix<Scalar, 3, 1>;
+
+  struct Options {
+    typename Arms::Options arms{};              ///< the leader's and the follower's controllers
+    Scalar opposition_gain = Scalar(100);       ///< k_op (units/s per unit misalignment ≈ per rad)
+    Scalar max_opposition_speed = Scalar(20);   ///< v_op,max: norm clip of the opposition velocity (units/s)
+  };
+
+  CentralisedDualArmPushing() = default;
+  CentralisedDualArmPushing(const Options& options, const Filter& leader_filter, const Filter& follower_filter)
+      : arms_(options.arms, leader_filter, follower_filter) {
+    config_status_ = configure(options);
+  }
+
+  /// ok, or invalid_argument: invalid controller options, a negative or non-finite gain or
+  /// speed limit.
+  static Status validate(const Options& o) noexcept {
+    if (Arms::validate(o.arms) != Status::ok) return Status::invalid_argument;
+    if (!(o.opposition_gain >= Scalar(0)) || !std::isfinite(o.opposition_gain)) return Status::invalid_argument;
+    if (!(o.max_opposition_speed >= Scalar(0)) || !std::isfinite(o.max_opposition_speed))
+      return Status::invalid_argument;
+    return Status::ok;
+  }
+
+  /// Replaces the options (controller and filter states kept); invalid options change nothing.
+  Status configure(const Options& options) noexcept {
+    const Status s = validate(options);
+    if (s != Status::ok) return s;
+    if (arms_.configure(options.arms) != Status::ok) return Status::invalid_argument;
+    options_ = options;
+    config_status_ = Status::ok;
+    return Status::ok;
+  }
+
+  /// Steps both filters and controllers (as DualArmPushing::step), then adds the centralised
+  /// feedforward to the follower's twist. Non-finite or non-orthonormal poses and bad
+  /// observations: the filters' statuses, nothing changes; a non-finite result:
+  /// numerical_failure, nothing changes.
+  Status step(const ArmInput& leader_in, const ArmInput& follower_in, Scalar dt, ArmOutput& leader_out,
+              ArmOutput& follower_out) noexcept {
+    if (config_status_ != Status::ok) return config_status_;
+    Status s = validateElement(leader_in.sensor_pose);
+    if (s == Status::ok) s = validateElement(follower_in.sensor_pose);
+    if (s != Status::ok) return s;
+    const Arms backup = arms_;
+    ArmOutput lo, fo;
+    s = arms_.step(leader_in, follower_in, dt, lo, fo);
+    if (s != Status::ok) return s;
+    Tangent ff = Tangent::Zero();
+    if (!arms_.terminated()) {
+      const auto R_FL = (follower_in.sensor_pose.rotationMatrix().transpose() * leader_in.sensor_pose.rotationMatrix()).eval();
+      Vec3 v_op(options_.opposition_gain * R_FL(0, 2), options_.opposition_gain * R_FL(1, 2), Scalar(0));
+      const Scalar n = v_op.norm();
+      if (n > options_.max_opposition_speed) v_op *= options_.max_opposition_speed / n;
+      ff.template head<3>() = v_op + R_FL.col(2) * lo.velocity[2];
+    }
+    fo.velocity += ff;
+    if (!lo.velocity.allFinite() || !fo.velocity.allFinite()) {
+      arms_ = backup;
+      return Status::numerical_failure;
+    }
+    feedforward_ = ff;
+    leader_out = lo;
+    follower_out = fo;
+    return Status::ok;
+  }
+
+  /// New reference sensor poses X_fs' for both arms (DualArmPushing::setReferences).
+  Status setReferences(const Group& leader_reference, const Group& follower_reference) noexcept {
+    return arms_.setReferences(leader_reference, follower_reference);
+  }
+  /// Clears both controllers, both filters and the last feedforward (options kept).
+  void reset() noexcept {
+    arms_.reset();
+    feedforward_.setZero();
+  }
+
+  bool terminated() const noexcept { return arms_.terminated(); }
+  /// The centralised part of the follower's last twist, u_ff, in its sensor frame.
+  const Tangent& followerFeedforward() const noexcept { return feedforward_; }
+  const Arms& arms() const noexcept { return arms_; }
+  const typename Arms::Leader& leader() const noexcept { return arms_.leader(); }
+  const typename Arms::Follower& follower() const noexcept { return arms_.follower(); }
+  const Options& options() const noexcept { return options_; }
+  Status configurationStatus() const noexcept { return config_status_; }
+
+ private:
+  Arms arms_{};
+  Options options_{};
+  Tangent feedforward_ = Tangent::Zero();
+  Status config_status_ = Status::ok;
+};
+
+/// The paper's dual-arm presets (dualArmPushingPreset: Table 8 leader, Table 9 follower, the
+/// tall-object offsets when `tall_object`) with the centralised follower's default opposition
+/// gain (100 mm/s per rad, 1.75 mm/s per degree: twice the leader's alignment gain) and speed
+/// limit (20 mm/s: above the leader's 15 mm/s alignment clip, so the follower can keep up with
+/// a leader walking round a round object).
+template <class Scalar, class Filter = DiscriminativeBayesFilter<SE3<Scalar>>>
+typename CentralisedDualArmPushing<Scalar, Filter>::Options centralisedDualArmPushingPreset(
+    bool tall_object = false, const PaperGainConvention& c = {}) {
+  typename CentralisedDualArmPushing<Scalar, Filter>::Options o;
+  o.arms = dualArmPushingPreset<Scalar, Filter>(tall_object, c);
+  return o;
+}
+
+}  // namespace lieservo
