@@ -595,6 +595,16 @@ TEST_CASE("mujoco: the contact model's shear saturates where the engine's gel co
       CHECK(c.slipped);
       CHECK(c.shear.norm() == Approx(model.slipRadius(c.depth)).epsilon(1e-9));
       CHECK(c.shear.norm() == Approx(engine).epsilon(0.10));
+      // What the tasks observe: the shear read from the engine's gel, the sensor's displacement
+      // against the skin, opposite to the gel's sideways deflection (the motion is along +x_s).
+      ContactModel from_gel(cp);
+      const TipGeometry geo = w.tipGeometry(0);
+      SurfacePoint sp;
+      sp.point = geo.point_w, sp.normal = geo.normal_w, sp.signed_distance = 20 - geo.depth;
+      const ContactState g = from_gel.update(w.sensorPose(0), lieservo::SE3<double>::identity(), sp, w.gelDeflection(0));
+      CHECK(g.shear.norm() == Approx(engine).epsilon(1e-9));
+      const Vec2 d = g.X_wf.rotationMatrix().leftCols<2>().transpose() * (w.sensorPose(0).rotationMatrix() * w.gelDeflection(0));
+      CHECK((d + g.shear).norm() < 1e-9);
     }
   }
 }

@@ -107,3 +107,26 @@ ContactState ContactModel::update(const SE3d& X_ws, const SE3d& X_wo, const Surf
 }
 
 }  // namespace lieservo::sim
+
+namespace lieservo::sim {
+
+ContactState ContactModel::update(const SE3d& X_ws, const SE3d& X_wo, const SurfacePoint& sp, const Vec3& gel_s) {
+  ContactState st = update(X_ws, X_wo, sp);
+  if (!st.in_contact) return st;
+  // The gel's tangential deflection in the contact's tangent plane (object frame), sign
+  // flipped: the sensor moved the other way against the stuck skin.
+  const Vec3 zf = -sp.normal;
+  Vec3 xf = anchor_.t - anchor_.t.dot(zf) * zf;
+  xf.normalize();
+  const Vec3 yf = zf.cross(xf);
+  const Vec3 d = (X_wo.inverse() * X_ws).rotationMatrix() * gel_s;
+  Vec2 shear(-d.dot(xf), -d.dot(yf));
+  if (shear.norm() > params_.max_slip_radius) shear *= params_.max_slip_radius / shear.norm();
+  anchor_.p = sp.point - shear.x() * xf - shear.y() * yf;
+  const bool slipped = st.slipped;
+  st = evaluate(X_wo, anchor_, sp, X_wo.inverse() * X_ws);
+  st.slipped = slipped;
+  return st;
+}
+
+}  // namespace lieservo::sim

@@ -106,7 +106,7 @@ struct EngineArm {
     sp.point = X_wo.inverse() * g.point_w;
     sp.normal = X_wo.rotationMatrix().transpose() * g.normal_w;
     sp.signed_distance = contact.params().tip_radius - g.depth;
-    state = contact.update(pose(), X_wo, sp);
+    state = contact.update(pose(), X_wo, sp, w.gelDeflection(arm.sensor()));
   }
   Status observe(Gaussian& g) { return observeContact(*gdn, state, g); }
   Status sense(SE3d& X_sf) { return senseContact(*gdn, state, filter, pose(), X_sf); }

@@ -99,6 +99,12 @@ class ContactModel {
   /// nearest to the tip centre is `sp` (object frame); updates the stick/slip anchor. Never
   /// throws.
   ContactState update(const SE3d& X_ws, const SE3d& X_wo, const SurfacePoint& sp);
+  /// As above, with the translational shear read from the physics engine's gel: `gel_s` is
+  /// where the touching tip sits relative to the arm's nominal tip (mm, sensor frame;
+  /// mujoco::World::gelDeflection). The shear is the sensor's displacement against its
+  /// contact, i.e. minus the gel's tangential deflection (clipped at max_slip_radius, the data's
+  /// range); the anchor follows it, so the engine's stick, slip and creep are what is observed.
+  ContactState update(const SE3d& X_ws, const SE3d& X_wo, const SurfacePoint& sp, const Vec3& gel_s);
   /// Forget the anchor (the next contact starts unsheared).
   void release() { anchored_ = false; }
   bool anchored() const { return anchored_; }
