@@ -106,10 +106,6 @@ ContactState ContactModel::update(const SE3d& X_ws, const SE3d& X_wo, const Surf
   return st;
 }
 
-}  // namespace lieservo::sim
-
-namespace lieservo::sim {
-
 ContactState ContactModel::update(const SE3d& X_ws, const SE3d& X_wo, const SurfacePoint& sp, const Vec3& gel_s) {
   ContactState st = update(X_ws, X_wo, sp);
   if (!st.in_contact) return st;
@@ -119,12 +115,13 @@ ContactState ContactModel::update(const SE3d& X_ws, const SE3d& X_wo, const Surf
   Vec3 xf = anchor_.t - anchor_.t.dot(zf) * zf;
   xf.normalize();
   const Vec3 yf = zf.cross(xf);
-  const Vec3 d = (X_wo.inverse() * X_ws).rotationMatrix() * gel_s;
+  const SE3d X_os = X_wo.inverse() * X_ws;
+  const Vec3 d = X_os.rotationMatrix() * gel_s;
   Vec2 shear(-d.dot(xf), -d.dot(yf));
   if (shear.norm() > params_.max_slip_radius) shear *= params_.max_slip_radius / shear.norm();
   anchor_.p = sp.point - shear.x() * xf - shear.y() * yf;
   const bool slipped = st.slipped;
-  st = evaluate(X_wo, anchor_, sp, X_wo.inverse() * X_ws);
+  st = evaluate(X_wo, anchor_, sp, X_os);
   st.slipped = slipped;
   return st;
 }

@@ -87,12 +87,9 @@ class CentralisedDualArmPushing {
   Status step(const ArmInput& leader_in, const ArmInput& follower_in, Scalar dt, ArmOutput& leader_out,
               ArmOutput& follower_out) noexcept {
     if (config_status_ != Status::ok) return config_status_;
-    Status s = validateElement(leader_in.sensor_pose);
-    if (s == Status::ok) s = validateElement(follower_in.sensor_pose);
-    if (s != Status::ok) return s;
     const Arms backup = arms_;
     ArmOutput lo, fo;
-    s = arms_.step(leader_in, follower_in, dt, lo, fo);
+    const Status s = arms_.step(leader_in, follower_in, dt, lo, fo);  // its filters check both poses
     if (s != Status::ok) return s;
     Tangent ff = Tangent::Zero();
     if (!arms_.terminated()) {
