@@ -251,6 +251,7 @@ TEST_CASE("centralised dual arm: round an arc, the follower turns its axis back 
   // servo does on a round object); the leader stands at angle 0 facing the centre. Started
   // 25° round, the follower's own opposition velocity takes it back to 180° opposition.
   auto o = centralisedDualArmPushingPreset<double>(false);
+  o.opposition_gain = 100;  // the term at a gain a caller sets (the presets leave it at 0)
   o.arms.follower.pid = MimoPid<double, 6>::Options::diagonal(V6::Zero(), V6::Zero(), V6::Zero());
   o.arms.leader.servo.pid = MimoPid<double, 6>::Options::diagonal(V6::Zero(), V6::Zero(), V6::Zero());
   o.arms.leader.servo.feedforward.setZero();

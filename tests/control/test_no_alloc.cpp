@@ -76,6 +76,7 @@ TEST_CASE("no allocation per step: pushing and dual-arm pushing with filters", "
   DualArmPushing<double> dual(dopts, DiscriminativeBayesFilter<G>(), DiscriminativeBayesFilter<G>());
   auto copts = centralisedDualArmPushingPreset<double>(true);
   copts.arms = dopts;
+  copts.opposition_gain = 100;  // the opposition term runs too (the presets leave it at 0)
   CentralisedDualArmPushing<double> central(copts, DiscriminativeBayesFilter<G>(), DiscriminativeBayesFilter<G>());
   const G X_ofF(SO3<double>::fromEulerXYZ(pi<double>(), 0, 0), Eigen::Vector3d(0, 0, 60));
   G X_wsL = dopts.leader.servo.reference, X_wsF = X_ofF * dopts.follower.reference, X_wo;

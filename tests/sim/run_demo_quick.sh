@@ -1,8 +1,8 @@
 #!/bin/sh
 # demo.quick: runs the shortened main job (lieservo_demo --quick --trials 1) into OUT_DIR and
-# checks what a user opens: exit status 0 or 1 (1 = a task missed its criteria, which
-# docs/simulation.md reports), and OUT_DIR/index.html embedding every figure written (SVG,
-# PNG; none empty) and linking every CSV log. A set-up error (2) or a sanitizer's abort fails.
+# checks what a user opens: exit status 0 (every task met its criteria; 1, a missed criterion,
+# fails the test like a set-up error, 2, or a sanitizer's abort), and OUT_DIR/index.html
+# embedding every figure written (SVG, PNG; none empty) and linking every CSV log.
 # Usage: run_demo_quick.sh LIESERVO_DEMO OUT_DIR
 set -u
 demo=$1
@@ -10,7 +10,7 @@ out=$2
 rm -rf "$out"
 "$demo" --quick --trials 1 --out "$out"
 rc=$?
-if [ "$rc" -gt 1 ]; then echo "demo.quick: lieservo_demo exited with $rc"; exit 1; fi
+if [ "$rc" -ne 0 ]; then echo "demo.quick: lieservo_demo exited with $rc"; exit 1; fi
 page="$out/index.html"
 [ -s "$page" ] || { echo "demo.quick: no $page"; exit 1; }
 figures=0

@@ -6,6 +6,7 @@
 // Bounds are written from the hand calculations before running.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -546,30 +547,36 @@ TEST_CASE("mujoco: tipping height and friction by statics and by the engine agre
 
 // ---- One contact truth: the observed shear saturates where the engine's gel slips -----------
 
+namespace {
+// A fixed plate (skin friction μ_c) and a tip above it, z_s down, pressed `depth` mm into it.
+SceneSpec tipOnPlate(const ContactParams& cp, double depth) {
+  SceneSpec s;
+  FixtureSpec plate;
+  plate.name = "plate", plate.shape = "plate", plate.size = 200, plate.size2 = 10, plate.friction = cp.skin_friction;
+  s.fixtures = {plate};
+  SensorSpec tip;
+  tip.name = "tip";
+  tip.gel_stiffness = cp.gel_stiffness;
+  tip.gel_tangential_ratio = cp.gel_tangential_ratio;
+  Mat3 R;
+  R << 1, 0, 0, 0, -1, 0, 0, 0, -1;
+  tip.initial_pose = makePose(R, Vec3(0, 0, cp.tip_radius - depth));
+  s.sensors = {tip};
+  return s;
+}
+}  // namespace
+
 TEST_CASE("mujoco: the contact model's shear saturates where the engine's gel contact starts to slip",
           "[sim][mujoco][gel]") {
   // A tip pressed into a fixed plate at depth d slides along it at 5 mm/s (the speed of the
   // pushes' tangential moves) for 40 mm. The engine's gel deflects sideways until k_t δ = μ_c N
-  // and then slides: δ saturates. (Below about 1.3 mm/s MuJoCo's soft friction holds less
-  // than μ_c N: it creeps; docs/simulation.md.) The contact model fed by the same engine
-  // geometry saturates its shear at slipRadius(d). Bound: 10 %.
+  // and then slides: δ saturates (slower drags: the stick test below). The contact model fed
+  // by the same engine geometry saturates its shear at slipRadius(d). Bound: 10 %.
   for (const double mu_c : {0.5, 0.8}) {
     for (const double depth : {2.0, 3.0, 4.0}) {
       ContactParams cp;
       cp.skin_friction = mu_c;
-      SceneSpec s;
-      FixtureSpec plate;
-      plate.name = "plate", plate.shape = "plate", plate.size = 200, plate.size2 = 10, plate.friction = mu_c;
-      s.fixtures = {plate};
-      SensorSpec tip;
-      tip.name = "tip";
-      tip.gel_stiffness = cp.gel_stiffness;
-      tip.gel_tangential_ratio = cp.gel_tangential_ratio;
-      Mat3 R;
-      R << 1, 0, 0, 0, -1, 0, 0, 0, -1;  // z_s down into the plate
-      tip.initial_pose = makePose(R, Vec3(0, 0, 20 - depth));
-      s.sensors = {tip};
-      World w(s);
+      World w(tipOnPlate(cp, depth));
       ContactModel model(cp);
       auto observe = [&] {
         const TipGeometry geo = w.tipGeometry(0);
@@ -606,5 +613,62 @@ TEST_CASE("mujoco: the contact model's shear saturates where the engine's gel co
       const Vec2 d = g.X_wf.rotationMatrix().leftCols<2>().transpose() * (w.sensorPose(0).rotationMatrix() * w.gelDeflection(0));
       CHECK((d + g.shear).norm() < 1e-9);
     }
+  }
+}
+
+TEST_CASE("mujoco: a gel stuck to a face holds its shear, on a fixed plate and on a pushed object",
+          "[sim][mujoco][gel]") {
+  // Bounds written before running. Below μ_c N a stuck gel deflects with the arm: it must not
+  // creep back (MuJoCo's soft friction is a damper below its limit; kNoslipIterations and the
+  // arm's mass hold it) nor slide when the contact's normal force ripples against a moving
+  // object (the overdamped tip contact, kContactSolref).
+  ContactParams cp;
+  SECTION("fixed plate: 2.4 mm of drag at 1 mm/s, depth 4 mm (slip at about 4.4 mm)") {
+    World w(tipOnPlate(cp, 4.0));
+    REQUIRE(w.step(0.3) == Status::ok);
+    const double x0 = w.gelDeflection(0).x();
+    Vec6 u;
+    u << 1, 0, 0, 0, 0, 0;
+    REQUIRE(w.setSensorTwist(0, u) == Status::ok);
+    for (int k = 0; k < 240; ++k) REQUIRE(w.step(0.01) == Status::ok);
+    const double gained = x0 - w.gelDeflection(0).x();  // the tip lags the arm: δ_x < 0
+    const double slip = cp.skin_friction * w.tipNormalForce(0) / (cp.gel_tangential_ratio * cp.gel_stiffness);
+    INFO("gel deflection gained " << gained << " mm of 2.4 mm; slip at " << slip << " mm");
+    REQUIRE(slip > 2.4);
+    CHECK(gained >= 0.9 * 2.4);
+  }
+  SECTION("pushed object: the red square pushed at 10 mm/s on MDF while the arm rises at 0.7 mm/s") {
+    SceneSpec s;
+    s.support = SupportSpec::mdf();
+    ObjectSpec o = shortObjects()[2];
+    o.friction = cp.skin_friction;
+    o.contact_height = 45;
+    s.objects = {o};
+    SensorSpec tip;
+    tip.name = "leader";
+    tip.tip_radius = cp.tip_radius;
+    tip.gel_stiffness = cp.gel_stiffness;
+    tip.gel_tangential_ratio = cp.gel_tangential_ratio;
+    Mat3 R;
+    R.col(0) = -Vec3::UnitZ(), R.col(1) = Vec3::UnitY(), R.col(2) = Vec3::UnitX();  // the pushes' mount
+    tip.initial_pose = makePose(R, Vec3(-halfExtentX(o) - cp.tip_radius + 2.0, 0, 45));
+    s.sensors = {tip};
+    World w(s);
+    REQUIRE(w.step(0.5) == Status::ok);
+    Vec6 u;
+    u << -0.7, 0, 10, 0, 0, 0;  // up (−x_s) and forward (z_s), mm/s
+    REQUIRE(w.setSensorTwist(0, u) == Status::ok);
+    for (int k = 0; k < 100; ++k) REQUIRE(w.step(0.01) == Status::ok);
+    INFO("after 1 s: gel deflection " << w.gelDeflection(0).x() << " mm of 0.7 mm");
+    CHECK(w.gelDeflection(0).x() >= 0.8 * 0.7);  // the skin holds the face: the tip lags below
+    double least = 1e9;
+    for (int k = 100; k < 300; ++k) {
+      REQUIRE(w.step(0.01) == Status::ok);
+      if (k < 150) continue;
+      const double slip = cp.skin_friction * w.tipNormalForce(0) / (cp.gel_tangential_ratio * cp.gel_stiffness);
+      least = std::min(least, w.gelDeflection(0).x() / slip);
+    }
+    INFO("from 1.5 s to 3 s: the gel's deflection is at least " << least << " of mu_c N / k_t");
+    CHECK(least >= 0.5);
   }
 }

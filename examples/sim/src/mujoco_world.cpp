@@ -16,9 +16,11 @@ namespace lieservo::sim::mujoco {
 namespace {
 
 constexpr double kMm = 1e-3;  // mm → m
-// The body that carries a sensor: heavy, so that contact forces of a few newtons change its
-// velocity by < 1 mm/s within a step before the arm sets it again (World::step).
-constexpr double kArmMass = 10;        // kg
+// The body that carries a sensor: heavy, so that a contact force of 3 N changes its velocity by
+// 0.25 mm/s within a step before the arm sets it again (World::step). The reset takes that
+// change from the tip as well, a creep of the gel against what it holds: lighter arms let a
+// stuck gel creep (10 kg: 16 % of a 1 mm/s drag), heavier ones slow the solver's convergence.
+constexpr double kArmMass = 30;        // kg
 constexpr double kArmInertia = 0.05;   // kg m²
 constexpr double kGravity = 9.81;
 // The gel: the tip is a light body on three slide joints (the sensor frame's axes), springs
@@ -28,8 +30,17 @@ constexpr double kGravity = 9.81;
 // tip's mass sets the gel's natural frequency sqrt(k/m) (283 rad/s at 0.8 N/mm: ω dt = 0.7 at
 // the 2.5 ms step, stable under MuJoCo's semi-implicit Euler); its weight is the arm's.
 constexpr double kTipMass = 0.01;  // kg
-constexpr const char* kContactSolref = "0.005 1";  // s, damping ratio: a stiff contact
+// The tip–object contact is overdamped (damping ratio 2): at a time constant of two steps, the
+// least MuJoCo resolves, a critically damped contact rings against a moving object (its normal
+// force ripples at the step rate), and each ripple lets a stuck gel slide back, so that a gel
+// dragged along a pushed face held a fraction of μ_c N. The stick tests in tests/sim hold it.
+constexpr const char* kContactSolref = "0.005 2";  // s, damping ratio
 constexpr const char* kContactSolimp = "0.99 0.99 0.001";  // constant impedance near 1: stiff
+// MuJoCo's soft friction is a damper below its limit: a force f makes it creep at a speed
+// proportional to f. Its noslip pass (a few projected Gauss–Seidel sweeps over the friction
+// directions after the main solver) removes that creep, so a gel stuck to a face holds its
+// shear up to μ_c N (tests/sim: the stick tests).
+constexpr int kNoslipIterations = 5;
 
 // The objects' base points (basePoints) are spheres of this radius (mm) resting on the support:
 // small, so that a tilted base still touches near its outline.
@@ -207,11 +218,13 @@ std::string sceneMjcf(const SceneSpec& spec) {
   // MPR (the convex collider: cylinders, meshes) to 0.1 nm. The conjugate-gradient solver to a
   // relative tolerance of 1e-6: on these scenes (24 DoF, 20–30 friction cones) it costs half of
   // the Newton solver's time per step (whose Hessian updates dominate), with the same pass
-  // rates over 30 seeded pushes per case (docs/simulation.md).
+  // rates over 30 seeded pushes per case (docs/simulation.md). Then MuJoCo's noslip pass
+  // (kNoslipIterations) removes the soft model's creep in the friction directions.
   x << "<mujoco model=\"lieservo_scene\">\n"
     << "  <option timestep=\"" << num(spec.timestep) << "\" gravity=\"0 0 " << num(-kGravity)
     << "\" cone=\"elliptic\" impratio=\"" << num(spec.impratio)
-    << "\" mpr_tolerance=\"1e-10\" mpr_iterations=\"100\" solver=\"CG\" tolerance=\"1e-6\"/>\n";
+    << "\" mpr_tolerance=\"1e-10\" mpr_iterations=\"100\" solver=\"CG\" tolerance=\"1e-6\" noslip_iterations=\""
+    << kNoslipIterations << "\"/>\n";
   bool any_mesh = false;
   for (const ObjectSpec& o : spec.objects) any_mesh = any_mesh || o.shape == "hexagon";
   if (any_mesh) {

@@ -16,11 +16,12 @@
 //   u_F = u_servo,F + [v_op + v_push; 0]
 //
 // The follower's servo keeps its axis normal to its face, so on a round object its axis turns
-// as it moves round: moving along (a_x, a_y) turns it towards −z_L, and it follows a leader
-// whose alignment walks it round the object, where the decentralised follower (no tangential
-// gain) stays on its line and loses opposition (docs/simulation.md shows the opposition angle
-// of both). On parallel faces a = −e_z already and the follower stays where it is, as the
-// paper's does.
+// as it moves round: moving along (a_x, a_y) turns it towards −z_L, after a leader whose
+// contact slides round the object. A gel that sticks holds both contacts on their material
+// points, and they stay opposed without v_op, which then drags the follower sideways against
+// the leader's steering (docs/simulation.md: the opposition angle and the misses at each
+// gain); so the presets set k_op = 0, and what is centralised is v_push. On parallel faces
+// a = −e_z and v_op = 0 whatever k_op.
 //
 // Lifecycle as DualArmPushing: Options, validate, configure, step (noexcept, allocation-free;
 // on any non-ok Status nothing changes), reset. Translation units are the caller's (the
@@ -50,7 +51,10 @@ class CentralisedDualArmPushing {
 
   struct Options {
     typename Arms::Options arms{};              ///< the leader's and the follower's controllers
-    Scalar opposition_gain = Scalar(100);       ///< k_op (units/s per unit misalignment ≈ per rad)
+    /// k_op (units/s per unit misalignment ≈ per rad). 0 by default: a gel that sticks holds the
+    /// two contacts on their material points, so they stay opposed on their own, and a gain
+    /// drags the follower sideways against the leader's steering (docs/control.md).
+    Scalar opposition_gain = Scalar(0);
     Scalar max_opposition_speed = Scalar(20);   ///< v_op,max: norm clip of the opposition velocity (units/s)
   };
 
@@ -137,10 +141,9 @@ class CentralisedDualArmPushing {
 };
 
 /// The paper's dual-arm presets (dualArmPushingPreset: Table 8 leader, Table 9 follower, the
-/// tall-object offsets when `tall_object`) with the centralised follower's default opposition
-/// gain (100 mm/s per rad, 1.75 mm/s per degree: twice the leader's alignment gain) and speed
-/// limit (20 mm/s: above the leader's 15 mm/s alignment clip, so the follower can keep up with
-/// a leader walking round a round object).
+/// tall-object offsets when `tall_object`) with the centralised follower's defaults: the push
+/// feedforward, no opposition gain (Options::opposition_gain), and a 20 mm/s limit on the
+/// opposition velocity for a caller who sets one (above the leader's 15 mm/s alignment clip).
 template <class Scalar, class Filter = DiscriminativeBayesFilter<SE3<Scalar>>>
 typename CentralisedDualArmPushing<Scalar, Filter>::Options centralisedDualArmPushingPreset(
     bool tall_object = false, const PaperGainConvention& c = {}) {
