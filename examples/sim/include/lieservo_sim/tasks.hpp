@@ -193,7 +193,7 @@ PushingResult runSingleArmPushing(const TaskOptions& opt, int trials = 5);
 /// (d) dual arm: the short prisms on foam and MDF, then the tall prisms and the everyday objects
 /// on MDF, with the paper's decentralised follower or (`centralised`) the centralised one.
 /// With the paper's follower the round objects are run and reported but not judged
-/// (docs/simulation.md: its follower loses opposition on them).
+/// (docs/simulation.md, "The paper's follower on round objects").
 PushingResult runDualArmPushing(const TaskOptions& opt, int trials = 5, bool centralised = false);
 /// The tall prisms and everyday objects pushed by one arm on the compliant foam: reported (how
 /// many topple), not judged.
