@@ -7,7 +7,9 @@
 #include <lieservo/realtime/velocity_pipeline.hpp>
 
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <limits>
+#include <utility>
 
 using lieservo::Status;
 using namespace lieservo::realtime;
@@ -135,6 +137,50 @@ TEST_CASE("pipeline: stale commands and stop requests ramp to zero, rearm resume
   REQUIRE(pipe.step(arm.T_OE(), cmd, s, k * 1000000LL, out) == Status::ok);
   CHECK_FALSE(pipe.stopped());
   CHECK(check.worst_norm <= 1 + 1e-9);
+}
+
+TEST_CASE("pipeline: a stamp from the future or at the clock's ends does not pass as fresh", "[realtime][pipeline]") {
+  FakeArm arm;
+  TwistCommand cmd;
+  cmd.twist_s = {20, 0, 0, 0, 0, 0};
+  cmd.in_contact = true;
+  std::array<double, 6> out{};
+  SECTION("moving, then a command stamped 10 s ahead and no more: the watchdog trips at once") {
+    CartesianVelocityPipeline pipe;
+    REQUIRE(pipe.configure(options()) == Status::ok);
+    int k = 1;
+    for (; k <= 50; ++k) {
+      const ChannelStamp fresh{std::uint64_t(k), k * 1000000LL};
+      REQUIRE(pipe.step(arm.T_OE(), cmd, fresh, k * 1000000LL, out) == Status::ok);
+    }
+    REQUIRE(Eigen::Map<const Vector6>(out.data()).norm() > 0);
+    const ChannelStamp ahead{std::uint64_t(k), k * 1000000LL + 10000000000LL};
+    REQUIRE(pipe.step(arm.T_OE(), cmd, ahead, k * 1000000LL, out) == Status::ok);
+    CHECK(pipe.watchdog().state() == WatchdogState::tripped_timeout);
+    for (int j = 1; j < 300; ++j) REQUIRE(pipe.step(arm.T_OE(), cmd, ahead, (k + j) * 1000000LL, out) == Status::ok);
+    CHECK(pipe.stopped());
+  }
+  SECTION("stamp and clock at the ends of int64: no overflow (UBSan), the command does not pass") {
+    for (const auto& [stamp_ns, now_ns] : {std::pair<std::int64_t, std::int64_t>{std::numeric_limits<std::int64_t>::max(),
+                                                                                  std::numeric_limits<std::int64_t>::min()},
+                                           {std::numeric_limits<std::int64_t>::min(), std::numeric_limits<std::int64_t>::max()}}) {
+      CartesianVelocityPipeline pipe;
+      REQUIRE(pipe.configure(options()) == Status::ok);
+      REQUIRE(pipe.step(arm.T_OE(), cmd, ChannelStamp{12, stamp_ns}, now_ns, out) == Status::ok);
+      CHECK_FALSE(pipe.watchdog().passCommands());
+      CHECK(Eigen::Map<const Vector6>(out.data()).isZero(0));
+    }
+  }
+  SECTION("a stamp a microsecond ahead (clock jitter) passes") {
+    CartesianVelocityPipeline pipe;
+    REQUIRE(pipe.configure(options()) == Status::ok);
+    for (int k = 1; k < 50; ++k) {
+      const std::int64_t now = k * 1000000LL;
+      REQUIRE(pipe.step(arm.T_OE(), cmd, ChannelStamp{std::uint64_t(k), now + 1000}, now, out) == Status::ok);
+    }
+    CHECK_FALSE(pipe.stopped());
+    CHECK(Eigen::Map<const Vector6>(out.data()).norm() > 0);
+  }
 }
 
 TEST_CASE("pipeline: bad pose or command -> Status, output and state unchanged, stepStopping ramps", "[realtime][pipeline]") {

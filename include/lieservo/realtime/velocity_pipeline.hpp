@@ -76,9 +76,12 @@ class CartesianVelocityPipeline {
     const Eigen::Map<const Vector6> xi(cmd.twist_s.data());
     if (stamp.sequence != 0 && !xi.allFinite()) return Status::non_finite_input;
 
-    const double age_s = stamp.sequence == 0 ? 0.0 : 1e-9 * static_cast<double>(now_ns - stamp.time_ns);
-    // A stamp from the future (clock skew) counts as age 0.
-    const Status ws = watchdog_.update(stamp.sequence, age_s < 0 ? 0.0 : age_s, cmd.in_contact);
+    // The command's age: its stamp's distance from now, in double (no signed overflow for any
+    // pair of stamps). A stamp from the future is as untrustworthy as an old one: one stamped
+    // further ahead than the timeout does not pass.
+    const double age_s =
+        stamp.sequence == 0 ? 0.0 : 1e-9 * std::abs(static_cast<double>(now_ns) - static_cast<double>(stamp.time_ns));
+    const Status ws = watchdog_.update(stamp.sequence, age_s, cmd.in_contact);
     if (ws != Status::ok) return ws;
 
     Vector6 target = Vector6::Zero();
