@@ -471,8 +471,13 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
   else if (repairSpd(Sigma) != Status::ok)
     return Status::numerical_failure;
 
-  result.fused.mean = X;
-  result.fused.covariance = Sigma;
+  // Status::ok promises a result that validates, by the same tests as every input (the
+  // fuzz target fuzz_fusion found a repaired Σ* that passed the checks above and not those).
+  ConcentratedGaussian<G> fused;
+  fused.mean = X;
+  fused.covariance = Sigma;
+  if (fused.validate() != Status::ok) return Status::numerical_failure;
+  result.fused = fused;
   result.iterations = it;
   result.step_norm = step;
   result.max_rotation_separation = max_sep;
