@@ -156,6 +156,35 @@ TEST_CASE("smoother: vector step from rest goes straight, without overshoot", "[
   }
 }
 
+TEST_CASE("smoother: a huge target is clamped along its direction, not lost to an overflowing norm",
+          "[realtime][smoother]") {
+  // Targets whose norm overflows a double (1e200, 1e308 in two components): the smoother moves
+  // towards the velocity limit along the target's direction, as for any target beyond it.
+  const auto L = limitSet(0);
+  for (const Eigen::Vector3d& dir : {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(1, 1, 0), Eigen::Vector3d(-1, 2, -3)}) {
+    for (const double scale : {1e200, 1e308 / 3}) {
+      VelocitySmoother<double> s;
+      REQUIRE(s.setLimits(L) == Status::ok);
+      Twist target = Twist::Zero();
+      target.head<3>() = scale * dir;
+      target.tail<3>() = scale * dir.reverse();
+      LimitChecker check{L, kDt};
+      for (int k = 0; k < 3000; ++k) {
+        stepOrFail(s, target, kDt);
+        check.push(s.velocity());
+      }
+      for (int part = 0; part < 2; ++part) {
+        const Eigen::Vector3d u = (part == 0 ? dir : Eigen::Vector3d(dir.reverse())).normalized();
+        const Eigen::Vector3d v = s.velocity().segment<3>(3 * part);
+        const double V = part == 0 ? L.translation.velocity : L.rotation.velocity;
+        INFO("scale " << scale << ", part " << part << ": velocity " << v.transpose());
+        CHECK((v - V * u).norm() <= 1e-12 * V);  // at the limit, along the target
+      }
+      CHECK(check.worst_norm <= 1 + kTol);
+    }
+  }
+}
+
 TEST_CASE("smoother: reversing targets brake first, stay inside the limits and settle", "[realtime][smoother]") {
   for (int which = 0; which < 3; ++which) {
     const auto L = limitSet(which);

@@ -58,11 +58,18 @@ enum class FusionForm {
   information,
 };
 
+/// The most operating-point updates fuse() accepts: each costs about a seventh of the paper's
+/// filter step, and in tolerance mode realistic inputs converge within 4; a larger bound would
+/// only let a mistyped option stall a real-time loop.
+inline constexpr int kMaxFusionIterations = 100;
+
 /// Iteration control of fuse().
 template <class Scalar>
 struct FusionOptions {
-  /// Upper bound on the number of operating-point updates (≥ 1). The paper runs exactly 5
-  /// ("real-time mode": tolerance = 0 → always max_iterations updates, predictable timing).
+  /// Upper bound on the number of operating-point updates, in [1, kMaxFusionIterations]. The
+  /// paper runs exactly 5 ("real-time mode": tolerance = 0 → always max_iterations updates,
+  /// predictable timing). One update is a single linearisation at the first factor's mean,
+  /// slightly over-confident at large rotation noise (docs/estimation.md, "Reading").
   int max_iterations = 5;
   /// If > 0: stop as soon as the step norm ‖μ‖₂ of an update falls below it; if that never
   /// happens within max_iterations, fuse() returns Status::not_converged. Must be finite, ≥ 0.
@@ -72,11 +79,11 @@ struct FusionOptions {
   FusionForm form = FusionForm::information;
 };
 
-/// Whether `o` is a valid FusionOptions: max_iterations ≥ 1, tolerance finite and ≥ 0, form one
-/// of the enumerators.
+/// Whether `o` is a valid FusionOptions: max_iterations in [1, kMaxFusionIterations], tolerance
+/// finite and ≥ 0, form one of the enumerators.
 template <class Scalar>
 bool validFusionOptions(const FusionOptions<Scalar>& o) noexcept {
-  return o.max_iterations >= 1 && std::isfinite(o.tolerance) && o.tolerance >= Scalar(0) &&
+  return o.max_iterations >= 1 && o.max_iterations <= kMaxFusionIterations && std::isfinite(o.tolerance) && o.tolerance >= Scalar(0) &&
          (o.form == FusionForm::square_root || o.form == FusionForm::information);
 }
 
@@ -311,16 +318,19 @@ Status innovationNis(const typename G::Tangent& nu, const typename G::Jacobian& 
 /// (With X = exp(ε_p^)X̄_prior = exp(ε_o^)X̄_obs: X̄_obs X̄_prior⁻¹ = exp(−ε_o^) exp(ε_p^), and
 /// BCH to first order in the ε gives ν ≈ ε_p − ε_o; the J(ν) corrections are second order.)
 /// Under a consistent model NIS ~ χ²(DoF). `innovation` (optional) receives ν.
+/// Status: ok; non_finite_input / not_orthonormal / not_spd when either Gaussian fails
+/// validate(); not_spd / numerical_failure from S. `nis` and `innovation` are written only
+/// when ok.
 template <class G>
 Status normalizedInnovationSquared(const ConcentratedGaussian<G>& observation,
                                    const ConcentratedGaussian<G>& prior,
                                    typename G::Scalar& nis,
                                    typename G::Tangent* innovation = nullptr) noexcept {
-  if (!observation.mean.allFinite() || !prior.mean.allFinite() ||
-      !detail::allFinite(observation.covariance) || !detail::allFinite(prior.covariance))
-    return Status::non_finite_input;
+  Status s = observation.validate();
+  if (s == Status::ok) s = prior.validate();
+  if (s != Status::ok) return s;
   const typename G::Tangent nu = lminus(observation.mean, prior.mean);
-  const Status s = detail::innovationNis<G>(nu, observation.covariance, prior.covariance, nis);
+  s = detail::innovationNis<G>(nu, observation.covariance, prior.covariance, nis);
   if (s != Status::ok) return s;
   if (innovation) *innovation = nu;
   return Status::ok;

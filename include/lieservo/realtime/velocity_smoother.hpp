@@ -138,9 +138,14 @@ class NormLimiter3 {
   /// One step towards `target` (finite, checked by the caller) with limits `lim` and step T.
   void step(const Vec3& target, const AxisLimits<Scalar>& lim, Scalar T) noexcept {
     const Scalar V = lim.velocity, A = lim.acceleration, J = lim.jerk;
+    // The target clamped onto the velocity ball along its direction. A component beyond V is
+    // scaled down first, so that the norm of a huge target (1e200) cannot overflow to ∞ and
+    // turn the direction into 0.
     Vec3 w = target;
+    const Scalar big = w.cwiseAbs().maxCoeff();
+    if (big > V) w /= big;
     const Scalar nw = w.norm();
-    if (nw > V) w *= V / nw;
+    if (big > V || nw > V) w *= V / nw;
 
     // 2. Desired acceleration along the error.
     const Vec3 e = w - v_;
