@@ -117,7 +117,7 @@ Reference reference(const Case& c) {
   ConcentratedGaussian<SE3<LD>> f[2];
   if (!makeFactors<LD>(c, f)) return r;
   lieservo::FusionOptions<LD> opt;
-  opt.max_iterations = 200;
+  opt.max_iterations = lieservo::kMaxFusionIterations;
   opt.tolerance = 1e-14L;
   lieservo::FusionResult<SE3<LD>> res;
   if (lieservo::fuse<lieservo::ClosedFormJacobian>(f[0], f[1], opt, res) != Status::ok) return r;

@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import argparse
 import datetime as dt
+import hashlib
 import json
 import math
 import os
@@ -281,8 +282,11 @@ def main(argv=None):
         if os.path.isfile(hp):
             with open(hp) as f:
                 hist = json.load(f)
+        with open(os.path.join(args.out_dir, f'{kind}.onnx'), 'rb') as f:
+            digest = hashlib.sha256(f.read()).hexdigest()  # the C++ loader checks it
         card['models'][kind] = {
             'file': f'{kind}.onnx',
+            'sha256': digest,
             'onnx_ops': ops, 'opset': 13,
             'input': {'name': 'input', 'shape': ['N', 1, 128, 128], 'dtype': 'float32'},
             'output': ({'name': 'output', 'shape': ['N', 12],

@@ -14,18 +14,21 @@
 // The experiment is lieservo_replay's (replayFilter, seed 1): Tₖ = exp(ψₖ^) Xₖ Xₖ₋₁⁻¹ (eq. 23, eqn:se3_filter_exp_state_trans_model),
 // ψₖ ~ N(0, σψ² 1) with σψ in mm and degrees (eq. 24, eqn:se3_filter_exp_state_trans_cov), Σφ = Σψ,
 // the paper's 5 fusion iterations (or --converged: up to 50, tolerance 1e-12).
-// Exit codes: 0 ok; 1 bad input, or --expect-improvement and the smallest σψ did not lower every
-// component's MAE; 2 bad usage.
+// Exit codes: 0 ok; 1 --expect-improvement and the smallest σψ did not lower every component's
+// MAE; 2 bad usage or an unreadable or malformed rows file.
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <stdexcept>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <lieservo_cli/cli.hpp>
 
 #include <lieservo/sampling/random.hpp>
 
@@ -129,65 +132,35 @@ BinMae filterMae(const std::vector<Row>& rows, double sig, bool converged, int& 
   return binnedMae(rows, run.mu);
 }
 
-void usage(std::ostream& os) {
-  os << "usage: lieservo_filter_diagnosis FILE [--sigmas 10,1,0.1,0.01] [--synthetic SEED] [--converged]\n"
-        "                                 [--expect-improvement]\n"
-        "  FILE: 19 numbers per row (z mm; xi, mu, sigma in mm and rad), e.g. from\n"
-        "        examples/gdn/diagnose.py --dump FILE --dump-sigma {network,card,power}\n";
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
+  namespace cli = lieservo::cli;
   std::string path;
   std::vector<double> sigmas{10.0, 1.0, 0.1, 0.01};
   long synthetic_seed = -1;
   bool converged = false, expect_improvement = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        usage(std::cerr);
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (a == "--sigmas") {
-      sigmas.clear();
-      std::stringstream ss(value());
-      std::string t;
-      while (std::getline(ss, t, ',')) sigmas.push_back(std::atof(t.c_str()));
-    } else if (a == "--synthetic") {
-      synthetic_seed = std::atol(value().c_str());
-    } else if (a == "--converged") {
-      converged = true;
-    } else if (a == "--expect-improvement") {
-      expect_improvement = true;
-    } else if (a == "-h" || a == "--help") {
-      usage(std::cout);
-      return 0;
-    } else if (!a.empty() && a[0] != '-' && path.empty()) {
-      path = a;
-    } else {
-      usage(std::cerr);
-      return 2;
-    }
-  }
-  if (path.empty() || sigmas.empty()) {
-    usage(std::cerr);
-    return 2;
-  }
-  for (double s : sigmas)
-    if (!(s > 0.0) || !std::isfinite(s)) {
-      std::cerr << "--sigmas: each sigma_psi must be finite and > 0\n";
-      return 2;
-    }
+  CLI::App app("lieservo_filter_diagnosis: the filter's MAE against the unfiltered GDN's on a dump of rows, binned by\n"
+               "depth. FILE: 19 numbers per row (z mm; xi, mu, sigma in mm and rad), e.g. from\n"
+               "examples/gdn/diagnose.py --dump FILE --dump-sigma {network,card,power}. Exit status: 0 ok,\n"
+               "1 --expect-improvement not met, 2 bad usage or an unreadable file.",
+               "lieservo_filter_diagnosis");
+  app.add_option("FILE", path, "the rows")->required();
+  app.add_option("--sigmas", sigmas, "process noise levels sigma_psi (mm and deg), comma-separated")
+      ->delimiter(',')
+      ->capture_default_str()
+      ->check(cli::finiteIn(1e-6, 100));
+  app.add_option("--synthetic", synthetic_seed, "replace mu by xi + sigma * N(0, 1) drawn with this seed")
+      ->check(cli::integerIn<long>(0, std::numeric_limits<long>::max()));
+  app.add_flag("--converged", converged, "fuse to convergence (tolerance 1e-12) instead of the paper's 5 iterations");
+  app.add_flag("--expect-improvement", expect_improvement, "exit 1 unless the filter improves every component");
+  if (const int status = cli::parse(app, argc, argv); status >= 0) return status;
   std::vector<Row> rows;
   try {
     rows = readRows(path);
   } catch (const std::exception& e) {
     std::cerr << "lieservo_filter_diagnosis: " << e.what() << "\n";
-    return 1;
+    return cli::kUsageOrSetup;
   }
   if (synthetic_seed >= 0) {
     lieservo::sampling::Rng g(static_cast<std::uint64_t>(synthetic_seed));

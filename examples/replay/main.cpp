@@ -5,17 +5,22 @@
 //                   [--cache FILE] [--sigmas 10,1,0.1,0.01] [--seed S] [--no-cnn]
 //                   [--skip-missing] [--check] [--quiet]
 //
-// Exit codes: 0 ok; 1 error (or --check failed); 2 bad usage; 77 data/model missing with
+// Exit codes: 0 ok; 1 --check failed; 2 bad usage or set-up (a malformed option, missing or
+// unreadable data or model, a filter that fails at every step); 77 data/model missing with
 // --skip-missing (CTest SKIP_RETURN_CODE).
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
+#include <new>
 #include <sstream>
 #include <string>
 
 #include <opencv2/core.hpp>
+
+#include <lieservo_cli/cli.hpp>
 
 #include "replay.hpp"
 
@@ -25,28 +30,6 @@
 #ifndef LIESERVO_DEFAULT_MODELS_DIR
 #define LIESERVO_DEFAULT_MODELS_DIR "examples/gdn/models"
 #endif
-
-namespace {
-
-void usage(std::ostream& os) {
-  os << "usage: lieservo_replay [--data DIR] [--split NAME] [--models DIR] [--quick N] [--plots DIR]\n"
-        "                       [--results-md FILE]\n"
-        "                       [--cache FILE] [--sigmas 10,1,0.1,0.01] [--seed S] [--no-cnn]\n"
-        "                       [--unseen-only] [--skip-missing] [--check] [--quiet]\n"
-        "  --data DIR        TacTip data (with one folder per split); default " LIESERVO_DEFAULT_DATA_DIR "\n"
-        "  --split NAME      the split to replay: DIR/NAME/targets.csv and processed_images/; default val\n"
-        "  --models DIR      model_card.json, gdn.onnx, cnn.onnx; default " LIESERVO_DEFAULT_MODELS_DIR "\n"
-        "  --quick N         only the split's first N images\n"
-        "  --unseen-only     only the images the card's network did not train on (data.trained_on and\n"
-        "                    its held-out list: e.g. --models examples/gdn/models/train_val)\n"
-        "  --plots DIR       write predicted-vs-actual scatter plots (SVG) here\n"
-        "  --results-md FILE write the Markdown report (docs/results.md)\n"
-        "  --cache FILE      cache the network outputs (keyed by model file hashes)\n"
-        "  --skip-missing    exit 77 (skip) when the data or the GDN model is absent\n"
-        "  --check           exit 1 unless results are finite and the filter (smallest sigma) reduces every MAE\n";
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   lieservo::replay::ReplayOptions opt;
@@ -60,48 +43,35 @@ int main(int argc, char** argv) {
   command << lieservo::replay::displayPath(argv[0], opt.display_root, true);
   for (int i = 1; i < argc; ++i) command << ' ' << argv[i];
 
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&](const char* name) -> std::string {
-      if (i + 1 >= argc) {
-        std::cerr << "lieservo_replay: " << name << " needs a value\n";
-        usage(std::cerr);
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    try {
-      if (a == "--data") opt.data_dir = value("--data");
-      else if (a == "--split") opt.split = value("--split");
-      else if (a == "--models") opt.models_dir = value("--models");
-      else if (a == "--quick") opt.quick = std::stoi(value("--quick"));
-      else if (a == "--plots") opt.plot_dir = value("--plots");
-      else if (a == "--results-md") results_md = value("--results-md");
-      else if (a == "--cache") opt.cache_file = value("--cache");
-      else if (a == "--seed") opt.seed = std::stoull(value("--seed"));
-      else if (a == "--no-cnn") opt.run_cnn = false;
-      else if (a == "--unseen-only") opt.unseen_only = true;
-      else if (a == "--skip-missing") skip_missing = true;
-      else if (a == "--check") check = true;
-      else if (a == "--quiet") opt.verbose = false;
-      else if (a == "--sigmas") {
-        opt.sigma_psi.clear();
-        std::stringstream ss(value("--sigmas"));
-        std::string tok;
-        while (std::getline(ss, tok, ',')) opt.sigma_psi.push_back(std::stod(tok));
-      } else if (a == "-h" || a == "--help") {
-        usage(std::cout);
-        return 0;
-      } else {
-        std::cerr << "lieservo_replay: unknown argument " << a << "\n";
-        usage(std::cerr);
-        return 2;
-      }
-    } catch (const std::exception&) {
-      std::cerr << "lieservo_replay: bad value for " << a << "\n";
-      return 2;
-    }
-  }
+  namespace cli = lieservo::cli;
+  CLI::App app("lieservo_replay: the paper's Tables 1 and 2 on a split of the real TacTip data. Exit status: 0 ok,\n"
+               "1 --check failed, 2 bad usage or set-up, 77 data or model missing with --skip-missing.",
+               "lieservo_replay");
+  app.add_option("--data", opt.data_dir, "TacTip data (one folder per split)")->capture_default_str();
+  app.add_option("--split", opt.split, "the split to replay: DATA/SPLIT/targets.csv and processed_images/")
+      ->capture_default_str();
+  app.add_option("--models", opt.models_dir, "model_card.json, gdn.onnx, cnn.onnx")->capture_default_str();
+  app.add_option("--quick", opt.quick, "only the split's first N images")->check(cli::integerIn(1, 1000000));
+  app.add_flag("--unseen-only", opt.unseen_only,
+               "only the images the card's network did not train on (data.trained_on and its held-out list: "
+               "e.g. --models examples/gdn/models/train_val)");
+  app.add_option("--plots", opt.plot_dir, "write predicted-vs-actual scatter plots (SVG) here");
+  app.add_option("--results-md", results_md, "write the Markdown report (docs/results.md)");
+  app.add_option("--cache", opt.cache_file, "cache the network outputs (keyed by model file hashes)");
+  app.add_option("--sigmas", opt.sigma_psi, "Table 2's process noise levels sigma_psi (mm and deg), comma-separated")
+      ->delimiter(',')
+      ->capture_default_str()
+      ->check(cli::finiteIn(1e-6, 100));
+  app.add_option("--seed", opt.seed, "seed of the process noise")->capture_default_str()->check(
+      cli::integerIn<std::uint64_t>(0, std::numeric_limits<std::uint64_t>::max()));
+  bool no_cnn = false, quiet = false;
+  app.add_flag("--no-cnn", no_cnn, "do not run the CNN baseline");
+  app.add_flag("--skip-missing", skip_missing, "exit 77 (skip) when the data or the GDN model is absent");
+  app.add_flag("--check", check, "exit 1 unless results are finite and the filter (smallest sigma) reduces every MAE");
+  app.add_flag("--quiet", quiet, "no progress output");
+  if (const int status = cli::parse(app, argc, argv); status >= 0) return status;
+  if (no_cnn) opt.run_cnn = false;
+  if (quiet) opt.verbose = false;
 
   namespace fs = std::filesystem;
   if (skip_missing) {
@@ -127,6 +97,16 @@ int main(int argc, char** argv) {
       std::cout << "wrote " << results_md << "\n";
     }
     for (const auto& p : r.plots) std::cout << "wrote " << p << "\n";
+    // A noise level at which the filter failed at every step has no Table 2 row to show.
+    for (const auto& row : r.filter) {
+      if (row.failures >= r.n && r.n > 0) {
+        std::cerr << "lieservo_replay: the filter failed at every step with sigma_psi = " << row.sigma_psi << "\n";
+        return cli::kUsageOrSetup;
+      }
+      if (row.failures > 0)
+        std::cerr << "lieservo_replay: warning: the filter failed at " << row.failures << " of " << r.n
+                  << " steps with sigma_psi = " << row.sigma_psi << " (re-initialised each time)\n";
+    }
     if (check) {
       bool ok = r.have_gdn && !r.filter.empty();
       for (std::size_t j = 0; j < 6 && ok; ++j) {
@@ -144,13 +124,16 @@ int main(int argc, char** argv) {
       }
       if (!ok) {
         std::cerr << "lieservo_replay: --check FAILED\n";
-        return 1;
+        return cli::kCriteriaMissed;
       }
       std::cout << "lieservo_replay: --check passed\n";
     }
+  } catch (const std::bad_alloc&) {
+    std::cerr << "lieservo_replay: out of memory\n";
+    return cli::kUsageOrSetup;
   } catch (const std::exception& e) {
     std::cerr << "lieservo_replay: error: " << e.what() << "\n";
-    return 1;
+    return cli::kUsageOrSetup;
   }
-  return 0;
+  return cli::kOk;
 }

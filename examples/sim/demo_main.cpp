@@ -3,10 +3,11 @@
 //
 //   lieservo_demo [--out DIR] [--seed N] [--trials N] [--rate HZ] [--quick] [--no-files]
 //                 [--calibration card|paper] [--observations auto|real|gaussian] [--data DIR]
-//                 [--model-card FILE] [--skin-friction MU] [--randomise]
+//                 [--model-card FILE] [--skin-friction MU] [--randomise]   (--help: all of them)
 //
-// Exit status: 0 when every task met its success criteria, 1 when one failed, 2 on a usage
-// or set-up error.
+// Exit status (lieservo_cli/cli.hpp): 0 when every task met its success criteria, 1 when one
+// missed them, 2 on bad usage or set-up (a malformed option, missing data, an unreadable image
+// or model, out of memory), with a message naming the option or file.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -16,7 +17,11 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <limits>
+#include <new>
 #include <vector>
+
+#include <lieservo_cli/cli.hpp>
 
 #include "lieservo_sim/csv_log.hpp"
 #include "lieservo_sim/tasks.hpp"
@@ -38,32 +43,6 @@ using namespace lieservo::sim;
 using Clock = std::chrono::steady_clock;
 
 double seconds(Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); }
-
-void usage() {
-  std::printf(
-      "usage: lieservo_demo [--out DIR] [--seed N] [--trials N] [--rate HZ] [--quick] [--no-files]\n"
-      "                     [--calibration card|paper] [--observations auto|real|gaussian] [--data DIR]\n"
-      "                     [--model-card FILE]\n"
-      "  --out DIR    results folder (default: results)\n"
-      "  --seed N     base seed (default 1)\n"
-      "  --trials N   pushing trials per object and surface (default 5, as the paper)\n"
-      "  --rate HZ    tactile control rate (default 20)\n"
-      "  --quick      shortened runs (duration scale 0.3, 2 trials)\n"
-      "  --no-files   do not write plots/CSVs\n"
-      "  --observations auto|real|gaussian  'real': the card's GDN on the nearest labelled\n"
-      "               TacTip image it did not train on (train + val splits); 'gaussian': the\n"
-      "               calibrated Gaussian model; 'auto' (default): real when the data set is there\n"
-      "  --data DIR   the TacTip data set for 'real' (default: " LIESERVO_DEFAULT_DATA_DIR ")\n"
-      "  --calibration card|paper  the Gaussian model's error calibration: the model card's\n"
-      "               measured MAE (default, falls back to the paper) or the paper's Table 1\n"
-      "  --model-card FILE  the GDN's model card (default: the deployed GDN, trained on train +\n"
-      "               val: " LIESERVO_SIM_MODEL_CARD ";\n"
-      "               the paper's reproduction model: examples/gdn/models/model_card.json)\n"
-      "  --skin-friction MU     skin-object friction mu_c (default 0.8)\n"
-      "  --randomise  draw the assumed physical parameters (mu_s, mu_c, gel stiffness) per pushing\n"
-      "               trial from their ranges (docs/simulation.md, \"What is assumed\")\n"
-      "exit status: 0 every task met its criteria, 1 a task missed them, 2 bad usage or set-up\n");
-}
 
 std::string pm(double m, double s) {
   char b[64];
@@ -146,49 +125,54 @@ bool writeIndex(const std::string& dir, const std::string& heading, const std::v
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
+  namespace cli = lieservo::cli;
   TaskOptions opt;
   opt.out_dir = "results";
   std::string calibration = "card";
   std::string observations = "auto";
   std::string data_dir = LIESERVO_DEFAULT_DATA_DIR;
   std::string model_card = LIESERVO_SIM_MODEL_CARD;
-  bool model_card_given = false;
   int trials = 5;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto next = [&]() -> const char* {
-      if (i + 1 >= argc) {
-        usage();
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (a == "--out") opt.out_dir = next();
-    else if (a == "--seed") opt.seed = std::strtoull(next(), nullptr, 10);
-    else if (a == "--trials") trials = std::atoi(next());
-    else if (a == "--rate") opt.control_rate = std::atof(next());
-    else if (a == "--quick") opt.duration_scale = 0.3, trials = 2;
-    else if (a == "--no-files") opt.out_dir.clear();
-    else if (a == "--calibration") calibration = next();
-    else if (a == "--observations") observations = next();
-    else if (a == "--data") data_dir = next();
-    else if (a == "--model-card") model_card = next(), model_card_given = true;
-    else if (a == "--skin-friction") opt.contact.skin_friction = std::atof(next());
-    else if (a == "--randomise") opt.randomise = true;
-    else if (a == "--help" || a == "-h") {
-      usage();
-      return 0;
-    } else {
-      std::fprintf(stderr, "unknown option '%s'\n", a.c_str());
-      usage();
-      return 2;
-    }
-  }
-  if (trials < 1) {
-    std::fprintf(stderr, "--trials must be >= 1\n");
-    return 2;
-  }
+  bool quick = false, no_files = false;
+  CLI::App app("lieservo_demo: the paper's four tasks in simulation (MuJoCo) and the real-data replay, one\n"
+               "summary table beside the paper's numbers. Exit status: 0 every task met its criteria, 1 a\n"
+               "task missed them, 2 bad usage or set-up (the message names the option or file).",
+               "lieservo_demo");
+  app.add_option("--out", opt.out_dir, "results folder")->capture_default_str();
+  app.add_option("--seed", opt.seed, "base seed")->capture_default_str()->check(
+      cli::integerIn<std::uint64_t>(0, 1000000000000000));  // trial seeds are seed · 1000 + i + 1
+  app.add_option("--trials", trials, "pushing trials per object and surface (the paper: 5)")
+      ->capture_default_str()
+      ->check(cli::integerIn(1, 100));
+  app.add_option("--rate", opt.control_rate, "tactile control rate (Hz)")->capture_default_str()->check(cli::finiteIn(1, 1000));
+  app.add_flag("--quick", quick, "shortened runs (duration scale 0.3, 2 trials)");
+  app.add_flag("--no-files", no_files, "do not write plots and logs");
+  app.add_option("--observations", observations,
+                 "'real': the card's GDN on the nearest labelled TacTip image it did not train on; 'gaussian': "
+                 "the calibrated Gaussian model; 'auto': real when the data set is there")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "real", "gaussian"}));
+  app.add_option("--data", data_dir, "the TacTip data set for 'real'")->capture_default_str();
+  app.add_option("--calibration", calibration,
+                 "the Gaussian model's error calibration: the model card's measured MAE (falls back to the "
+                 "paper's) or the paper's Table 1")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"card", "paper"}));
+  auto* card_option = app.add_option("--model-card", model_card,
+                                     "the GDN's model card (the paper's reproduction model: "
+                                     "examples/gdn/models/model_card.json)")
+                          ->capture_default_str();
+  app.add_option("--skin-friction", opt.contact.skin_friction, "skin-object friction mu_c")
+      ->capture_default_str()
+      ->check(cli::finiteIn(0, 5));
+  app.add_flag("--randomise", opt.randomise,
+               "draw the assumed physical parameters (mu_s, mu_c, gel stiffness) per pushing trial from their "
+               "ranges (docs/simulation.md, \"What is assumed\")");
+  if (const int status = cli::parse(app, argc, argv); status >= 0) return status;
+  if (quick) opt.duration_scale = 0.3, trials = 2;
+  if (no_files) opt.out_dir.clear();
+  const bool model_card_given = card_option->count() > 0;
   if (calibration == "card") {
     if (!GdnCalibration::fromModelCard(model_card, opt.calibration)) {
       if (model_card_given) {
@@ -197,29 +181,26 @@ int main(int argc, char** argv) {
       }
       std::printf("note: no readable GDN model card at %s, using the paper's Table 1\n", model_card.c_str());
     }
-  } else if (calibration != "paper") {
-    std::fprintf(stderr, "--calibration must be 'card' or 'paper'\n");
-    return 2;
-  }
-  if (observations != "auto" && observations != "real" && observations != "gaussian") {
-    std::fprintf(stderr, "--observations must be 'auto', 'real' or 'gaussian'\n");
-    return 2;
   }
   std::string observation_note;
 #ifdef LIESERVO_DEMO_WITH_REAL_OBSERVATIONS
-  if (observations == "real" || observations == "auto") {
-    RealObservationOptions ro;
-    ro.data_dir = data_dir;
-    ro.model_card = model_card;
+  // 'auto' falls back to the Gaussian model only when the data set is absent; with the data set
+  // there, anything that stops the real mode (a corrupted model or params file) is a set-up error.
+  RealObservationOptions ro;
+  ro.data_dir = data_dir;
+  ro.model_card = model_card;
+  bool data_present = false;
+  for (const std::string& split : ro.splits)
+    data_present = data_present || std::filesystem::exists(data_dir + "/" + split + "/targets.csv");
+  if (observations == "real" || (observations == "auto" && data_present)) {
     try {
       opt.observations = std::make_shared<RealGdnObservations>(ro);
     } catch (const SceneError& e) {
-      if (observations == "real") {
-        std::fprintf(stderr, "%s\n", e.what());
-        return 2;
-      }
-      observation_note = std::string("(the `real` mode could not start: ") + e.what() + ")";
+      std::fprintf(stderr, "set-up error: %s\n", e.what());
+      return lieservo::cli::kUsageOrSetup;
     }
+  } else if (observations == "auto") {
+    observation_note = "(no TacTip data set at " + data_dir + ": the `real` mode needs it)";
   }
 #else
   if (observations == "real") {
@@ -246,6 +227,18 @@ int main(int argc, char** argv) {
               opt.control_rate, static_cast<unsigned long long>(opt.seed), opt.contact.skin_friction,
               opt.observations ? "real" : "gaussian", observation_mode.c_str());
   if (!observation_note.empty()) std::printf("%s\n", observation_note.c_str());
+  // A real-mode observation that could not be made (an unreadable or truncated image, a
+  // network that fails) is a set-up error, not a missed criterion: exit 2 naming the file.
+  auto observationsFailed = [&]() {
+#ifdef LIESERVO_DEMO_WITH_REAL_OBSERVATIONS
+    if (const auto* real = dynamic_cast<const RealGdnObservations*>(opt.observations.get());
+        real && !real->lastError().empty()) {
+      std::fprintf(stderr, "\nset-up error: real observations: %s\n", real->lastError().c_str());
+      return true;
+    }
+#endif
+    return false;
+  };
   const auto t_all = Clock::now();
   std::vector<Row> rows;
   std::vector<std::string> failures, reported;
@@ -271,6 +264,7 @@ int main(int argc, char** argv) {
     failures.insert(failures.end(), tr.failures.begin(), tr.failures.end());
     sim_seconds += tr.sim_time;
     ok = ok && tr.success;
+    if (observationsFailed()) return lieservo::cli::kUsageOrSetup;
 
     // (b) surface following
     t0 = Clock::now();
@@ -289,6 +283,7 @@ int main(int argc, char** argv) {
     failures.insert(failures.end(), fr.failures.begin(), fr.failures.end());
     sim_seconds += fr.sim_time;
     ok = ok && fr.success;
+    if (observationsFailed()) return lieservo::cli::kUsageOrSetup;
 
     // (c) single-arm pushing
     t0 = Clock::now();
@@ -303,6 +298,7 @@ int main(int argc, char** argv) {
     failures.insert(failures.end(), sp.failures.begin(), sp.failures.end());
     ok = ok && sp.success;
     sim_seconds += sp.sim_time;
+    if (observationsFailed()) return lieservo::cli::kUsageOrSetup;
 
     // (d) dual-arm pushing: the paper's decentralised follower (its round objects reported),
     // then the centralised follower; the tall objects pushed by one arm on foam (reported: how
@@ -325,12 +321,14 @@ int main(int argc, char** argv) {
       sim_seconds += r.sim_time;
     };
     dualRows(dp, "dual-arm push");
+    if (observationsFailed()) return lieservo::cli::kUsageOrSetup;
     t0 = Clock::now();
     std::printf("      the centralised follower (Section 3.3.4's alternative, not the paper's controller) ... ");
     std::fflush(stdout);
     const PushingResult cp = runDualArmPushing(opt, trials, true);
     std::printf("%s (%.0f s simulated, %.1f s)\n", cp.success ? "ok" : "FAILED", cp.sim_time, seconds(t0));
     dualRows(cp, "dual, centralised");
+    if (observationsFailed()) return lieservo::cli::kUsageOrSetup;
     if (!opt.out_dir.empty()) writeOppositionPlot(dp, cp, opt.out_dir + "/pushing_dual_opposition.svg");
     t0 = Clock::now();
     std::printf("      tall objects pushed by one arm on the compliant foam (reported: how many topple) ... ");
@@ -342,6 +340,7 @@ int main(int argc, char** argv) {
       rows.push_back({"1-arm tall push", displayName(c.setup.object) + ", foam (reported)", buf, "topples", true});
     }
     sim_seconds += tp.sim_time;
+    if (observationsFailed()) return lieservo::cli::kUsageOrSetup;
     t0 = Clock::now();
     std::printf("      toppling thresholds on a rigid support (mu_s 0.35) by statics and by the engine ... ");
     std::fflush(stdout);
@@ -365,7 +364,7 @@ int main(int argc, char** argv) {
     }
   } catch (const SceneError& e) {
     std::fprintf(stderr, "set-up error: %s\n", e.what());
-    return 2;
+    return lieservo::cli::kUsageOrSetup;
   }
 
 #ifdef LIESERVO_DEMO_WITH_REPLAY
@@ -409,5 +408,16 @@ int main(int argc, char** argv) {
 #endif
     std::printf("observations: gaussian mode%s\n", observation_note.empty() ? "" : (" " + observation_note).c_str());
   std::printf("total %.1f s: %s\n", wall, ok ? "all tasks passed" : "SOME TASKS FAILED");
-  return ok ? 0 : 1;
+  return ok ? lieservo::cli::kOk : lieservo::cli::kCriteriaMissed;
+}
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "lieservo_demo: out of memory\n");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "lieservo_demo: %s\n", e.what());
+  }
+  return lieservo::cli::kUsageOrSetup;
 }

@@ -87,6 +87,59 @@ TEST_CASE("onnx: model card parsing", "[adapters][onnx]") {
   file_test::removeTree(dir);
 }
 
+TEST_CASE("onnx: the model file must match its card's SHA-256", "[adapters][onnx]") {
+  const std::string dir = file_test::makeTempDir("sha");
+  // Known answers (FIPS 180-2): "abc" and the empty message.
+  std::ofstream(dir + "/abc", std::ios::binary) << "abc";
+  std::ofstream(dir + "/empty", std::ios::binary).flush();
+  CHECK(sha256OfFile(dir + "/abc") == "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  CHECK(sha256OfFile(dir + "/empty") == "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  CHECK_THROWS_WITH(sha256OfFile(dir + "/none"), Catch::Contains(dir + "/none"));
+
+  // The tiny GDN copied, under a flat card with its hash: loads. Its first 4 KB zeroed: refused,
+  // both hashes named.
+  const ModelCard tiny = ModelCard::fromJsonFile(kData + "/tiny_model_card.json", ModelKind::gdn);
+  REQUIRE(tiny.sha256.size() == 64);
+  std::string bytes;
+  {
+    std::ifstream in(tiny.onnx_file, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  REQUIRE(bytes.size() > 4096);
+  std::ofstream(dir + "/m.onnx", std::ios::binary) << bytes;
+  const std::string card = dir + "/card.json";
+  std::ofstream(card) << R"({"kind": "gdn", "input_size": 128, "outputs": 12, "file": "m.onnx", "sha256": ")" << tiny.sha256
+                      << R"(", "output_units": ["mm", "mm", "mm", "deg", "deg", "deg"]})";
+  CHECK_NOTHROW(OnnxPoseModel::fromCard(card, ModelKind::gdn));
+  std::fill(bytes.begin(), bytes.begin() + 4096, '\0');
+  std::ofstream(dir + "/m.onnx", std::ios::binary) << bytes;
+  const std::string corrupted = sha256OfFile(dir + "/m.onnx");
+  CHECK_THROWS_WITH(OnnxPoseModel::fromCard(card, ModelKind::gdn),
+                    Catch::Contains(corrupted) && Catch::Contains(tiny.sha256) && Catch::Contains("m.onnx"));
+  // A malformed hash in the card is refused when the card is read.
+  std::ofstream(card) << R"({"kind": "gdn", "input_size": 128, "outputs": 12, "file": "m.onnx", "sha256": "ABC",
+                             "output_units": ["mm", "mm", "mm", "deg", "deg", "deg"]})";
+  CHECK_THROWS_WITH(ModelCard::fromJsonFile(card, ModelKind::gdn), Catch::Contains("64 lowercase hex digits"));
+  file_test::removeTree(dir);
+}
+
+TEST_CASE("onnx: every model card the project ships carries its model's SHA-256", "[adapters][onnx]") {
+  const std::string models = LIESERVO_GDN_MODELS_DIR;
+  struct Entry {
+    std::string card;
+    ModelKind kind;
+  };
+  for (const Entry& e : {Entry{models + "/model_card.json", ModelKind::gdn}, Entry{models + "/model_card.json", ModelKind::cnn},
+                         Entry{models + "/train_val/model_card.json", ModelKind::gdn},
+                         Entry{kData + "/tiny_model_card.json", ModelKind::gdn},
+                         Entry{kData + "/tiny_model_card.json", ModelKind::cnn}}) {
+    const ModelCard c = ModelCard::fromJsonFile(e.card, e.kind);
+    INFO(e.card << ": " << c.onnx_file);
+    REQUIRE(c.sha256.size() == 64);
+    CHECK(sha256OfFile(c.onnx_file) == c.sha256);
+  }
+}
+
 TEST_CASE("onnx: a card's sigma calibration scales sigma and nothing else", "[adapters][onnx]") {
   const ModelCard plain = ModelCard::fromJsonFile(kData + "/tiny_model_card.json", ModelKind::gdn);
   CHECK_FALSE(plain.hasSigmaCalibration());
@@ -223,8 +276,12 @@ TEST_CASE("onnx: wrong inputs and missing or malformed models give clear errors"
   const std::string dir = file_test::makeTempDir("onnx");
   std::ofstream(dir + "/garbage.onnx") << "definitely not a protobuf";
   CHECK_THROWS_WITH(OnnxPoseModel(dir + "/garbage.onnx", card), Catch::Contains(dir + "/garbage.onnx"));
-  // A CNN file loaded with a GDN card: output-count mismatch caught at load.
-  CHECK_THROWS_WITH(OnnxPoseModel(kData + "/tiny_cnn.onnx", card), Catch::Contains("does not match its card"));
+  // A CNN file loaded with a GDN card: refused by its hash; without the hash, the output-count
+  // mismatch is caught at load.
+  CHECK_THROWS_WITH(OnnxPoseModel(kData + "/tiny_cnn.onnx", card), Catch::Contains("SHA-256"));
+  ModelCard unhashed = card;
+  unhashed.sha256.clear();
+  CHECK_THROWS_WITH(OnnxPoseModel(kData + "/tiny_cnn.onnx", unhashed), Catch::Contains("does not match its card"));
   file_test::removeTree(dir);
 }
 

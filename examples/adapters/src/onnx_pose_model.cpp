@@ -3,8 +3,12 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
+
+#include <openssl/evp.h>
 
 #include <lieservo/units.hpp>
 #include <lieservo_dataset/json.hpp>
@@ -106,6 +110,7 @@ ModelCard ModelCard::fromJsonFile(const std::string& path, ModelKind kind) {
       const JsonValue* e = models->isObject() ? models->find(k) : nullptr;
       if (e == nullptr) doc.fail(*models, "no entry models." + k + " (model not exported yet?)");
       if (const JsonValue* f = e->find("file")) c.onnx_file = doc.asString(*f, "models." + k + ".file");
+      if (const JsonValue* h = e->find("sha256")) c.sha256 = doc.asString(*h, "models." + k + ".sha256");
       const JsonValue& in = doc.at(*e, "input");
       c.input_size = lastNumber(doc, doc.at(in, "shape"), "models." + k + ".input.shape");
       const JsonValue& out = doc.at(*e, "output");
@@ -117,6 +122,7 @@ ModelCard ModelCard::fromJsonFile(const std::string& path, ModelKind kind) {
       const std::string declared = doc.asString(doc.at(r, "kind"), "kind");
       if (declared != k) throw std::runtime_error("card is for a \"" + declared + "\" model, not \"" + k + "\"");
       if (const JsonValue* f = r.find("file")) c.onnx_file = doc.asString(*f, "file");
+      if (const JsonValue* h = r.find("sha256")) c.sha256 = doc.asString(*h, "sha256");
       c.input_size = doc.asInt(doc.at(r, "input_size"), "input_size");
       c.outputs = doc.asInt(doc.at(r, "outputs"), "outputs");
       c.units = parseUnits(doc, doc.at(r, "output_units"), "output_units");
@@ -129,6 +135,8 @@ ModelCard ModelCard::fromJsonFile(const std::string& path, ModelKind kind) {
       throw std::runtime_error("a " + k + " model should have " + std::to_string(expected) + " outputs, card says " +
                                std::to_string(c.outputs));
     if (c.input_size <= 0) throw std::runtime_error("input size must be positive");
+    if (!c.sha256.empty() && (c.sha256.size() != 64 || c.sha256.find_first_not_of("0123456789abcdef") != std::string::npos))
+      throw std::runtime_error("sha256 should be 64 lowercase hex digits, card says \"" + c.sha256 + "\"");
     if (kind == ModelKind::cnn && c.hasSigmaCalibration())
       throw std::runtime_error("a cnn model has no sigma to calibrate (sigma_calibration given)");
   } catch (const DatasetError&) {
@@ -142,6 +150,12 @@ ModelCard ModelCard::fromJsonFile(const std::string& path, ModelKind kind) {
 
 OnnxPoseModel::OnnxPoseModel(const std::string& onnx_path, const ModelCard& card) : card_(card), path_(onnx_path) {
   if (!fileExists(onnx_path)) throw std::runtime_error(onnx_path + ": ONNX model file not found");
+  if (!card_.sha256.empty()) {
+    const std::string actual = sha256OfFile(onnx_path);
+    if (actual != card_.sha256)
+      throw std::runtime_error(onnx_path + ": SHA-256 " + actual + " does not match the card's " + card_.sha256 +
+                               " (a corrupted or replaced model file)");
+  }
   try {
     net_ = cv::dnn::readNetFromONNX(onnx_path);
   } catch (const cv::Exception& e) {
@@ -156,6 +170,28 @@ OnnxPoseModel::OnnxPoseModel(const std::string& onnx_path, const ModelCard& card
   if (predictBatch({blank}, r) != Status::ok)
     throw std::runtime_error(onnx_path + ": model does not match its card: " + last_error_);
   last_error_.clear();
+}
+
+std::string sha256OfFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path + ": cannot read the file to hash it");
+  std::unique_ptr<EVP_MD_CTX, decltype(&EVP_MD_CTX_free)> ctx(EVP_MD_CTX_new(), &EVP_MD_CTX_free);
+  if (!ctx || EVP_DigestInit_ex(ctx.get(), EVP_sha256(), nullptr) != 1)
+    throw std::runtime_error("OpenSSL: cannot start a SHA-256 digest");
+  std::vector<char> buffer(1 << 16);
+  while (in) {
+    in.read(buffer.data(), std::streamsize(buffer.size()));
+    if (in.gcount() > 0 && EVP_DigestUpdate(ctx.get(), buffer.data(), std::size_t(in.gcount())) != 1)
+      throw std::runtime_error("OpenSSL: SHA-256 digest failed");
+  }
+  if (in.bad()) throw std::runtime_error(path + ": read error while hashing");
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int length = 0;
+  if (EVP_DigestFinal_ex(ctx.get(), digest, &length) != 1) throw std::runtime_error("OpenSSL: SHA-256 digest failed");
+  static const char* hex = "0123456789abcdef";
+  std::string out;
+  for (unsigned int i = 0; i < length; ++i) out += {hex[digest[i] >> 4], hex[digest[i] & 15]};
+  return out;
 }
 
 OnnxPoseModel OnnxPoseModel::fromCard(const std::string& card_path, ModelKind kind) {

@@ -52,6 +52,7 @@ RealGdnObservations::RealGdnObservations(const RealObservationOptions& o) : impl
     throw SceneError(std::string("real observations: ") + e.what());
   }
   std::size_t skipped = 0;
+  std::string first_params;
   for (const std::string& split : o.splits) {
     if (split != "train" && split != "val")
       throw SceneError("real observations: split '" + split + "' (only the shared train and val sets may be used)");
@@ -75,13 +76,24 @@ RealGdnObservations::RealGdnObservations(const RealObservationOptions& o) : impl
       I.xi.push_back(r.label());
       I.paths.push_back(dir + "/processed_images/" + r.sensor_image);
     }
+    // Every split's images must have been processed alike: its params file is read and
+    // checked (a corrupted one is refused), and must agree with the first split's.
+    const std::string params = dir + "/processed_image_params.json";
+    adapters::PreprocessParams p;
+    try {
+      if (fileExists(params)) p = adapters::PreprocessParams::fromJsonFile(params);
+      p.validate();
+    } catch (const std::exception& e) {
+      throw SceneError(std::string("real observations: ") + e.what());
+    }
     if (!I.pre) {
-      const std::string params = dir + "/processed_image_params.json";
-      try {
-        I.pre.emplace(fileExists(params) ? adapters::PreprocessParams::fromJsonFile(params) : adapters::PreprocessParams{});
-      } catch (const std::exception& e) {
-        throw SceneError(std::string("real observations: ") + e.what());
-      }
+      I.pre.emplace(p);
+      first_params = params;
+    } else if (p.processedSize() != I.pre->params().processedSize() || p.gray != I.pre->params().gray ||
+               p.threshold != I.pre->params().threshold || p.threshold_block != I.pre->params().threshold_block ||
+               p.threshold_c != I.pre->params().threshold_c ||
+               p.circle_mask_radius != I.pre->params().circle_mask_radius) {
+      throw SceneError("real observations: " + params + " processes images differently from " + first_params);
     }
   }
   if (I.euler.size() < 2)
@@ -139,7 +151,7 @@ Status RealGdnObservations::prediction(std::size_t i, Vec6& mu, Vec6& sigma) noe
       cv::Mat image;
       Status s = I.pre->loadProcessed(I.paths[i], image);
       if (s != Status::ok) {
-        I.last_error = I.pre->lastError();
+        I.last_error = I.pre->lastError();  // names the file
         return s;
       }
       adapters::Prediction p;

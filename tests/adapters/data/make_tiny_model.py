@@ -16,6 +16,7 @@ Synthetic input k (k = 0, 1, 2), float32, 128 x 128:
 The C++ test builds the same images and compares cv::dnn against these numbers.
 Export rules for OpenCV 4.6 cv::dnn: opset 13, torch.flatten, no Where/Clip/Min/Max.
 """
+import hashlib
 import json
 import os
 
@@ -134,14 +135,18 @@ def main():
         for k in range(3):
             f.write('cnn,%d,' % k + ','.join('%.9g' % v for v in yc[k]) + '\n')
 
+    def sha256(name):  # checked by the C++ loader
+        with open(os.path.join(HERE, name), 'rb') as f:
+            return hashlib.sha256(f.read()).hexdigest()
+
     card = {
         'name': 'tiny random test models (NOT trained) for tests/adapters',
         'models': {
-            'gdn': {'file': 'tiny_gdn.onnx',
+            'gdn': {'file': 'tiny_gdn.onnx', 'sha256': sha256('tiny_gdn.onnx'),
                     'input': {'name': 'input', 'shape': ['N', 1, SIZE, SIZE], 'dtype': 'float32'},
                     'output': {'name': 'output', 'shape': ['N', 12],
                                'units': 'mu: mm, mm, mm, deg, deg, deg; sigma_inv: 1/mm x3, 1/deg x3'}},
-            'cnn': {'file': 'tiny_cnn.onnx',
+            'cnn': {'file': 'tiny_cnn.onnx', 'sha256': sha256('tiny_cnn.onnx'),
                     'input': {'name': 'input', 'shape': ['N', 1, SIZE, SIZE], 'dtype': 'float32'},
                     'output': {'name': 'output', 'shape': ['N', 6], 'units': 'mm, mm, mm, deg, deg, deg'}},
         },

@@ -27,6 +27,10 @@ enum class ModelKind { gdn, cnn };
 struct ModelCard {
   ModelKind kind = ModelKind::gdn;
   std::string onnx_file;  ///< absolute or relative to the card's directory ("" if not given)
+  /// SHA-256 of the ONNX file, 64 lowercase hex digits (models.<kind>.sha256, or sha256 in a
+  /// flat card; "" = not given): the loader refuses a file that does not match. Every card the
+  /// project ships carries it (examples/gdn/export_onnx.py writes it; tests/adapters check it).
+  std::string sha256;
   int input_size = 128;   ///< input [N, 1, input_size, input_size]
   int outputs = 12;       ///< 12 for a GDN (μ, σ⁻¹), 6 for a CNN
   /// Per-component factor from network units to library units (mm -> 1, deg -> π/180, rad -> 1).
@@ -50,6 +54,10 @@ struct ModelCard {
   /// Throws std::runtime_error naming the file and the missing/invalid field.
   static ModelCard fromJsonFile(const std::string& path, ModelKind kind);
 };
+
+/// SHA-256 of a file's bytes, 64 lowercase hex digits. Throws std::runtime_error naming the file
+/// when it cannot be read.
+std::string sha256OfFile(const std::string& path);
 
 /// One network evaluation, in library units (mm, rad).
 struct Prediction {

@@ -1,0 +1,77 @@
+#!/bin/sh
+# programs.bad_input: the command-line programs refuse bad usage and set-up with exit status 2
+# and a message naming the option or file (lieservo_cli/cli.hpp).
+# Usage: run_programs_bad_input.sh LIESERVO_DEMO LIESERVO_REPLAY DATA_DIR MODELS_DIR WORK_DIR
+# The set-up cases that need the TacTip data set (an unreadable image, a corrupted model) are
+# skipped, with a message, when it is absent; the rest always run.
+set -u
+demo=$1
+replay=$2
+data=$3
+models=$4
+work=$5
+rm -rf "$work"
+mkdir -p "$work"
+fails=0
+
+# expect STATUS PATTERN -- COMMAND...: COMMAND exits STATUS, its output contains PATTERN.
+expect() {
+  want=$1
+  pattern=$2
+  shift 3
+  "$@" >"$work/out.txt" 2>&1
+  rc=$?
+  if [ "$rc" -ne "$want" ]; then
+    echo "FAILED: $* exited $rc, expected $want"; tail -3 "$work/out.txt"; fails=$((fails + 1)); return
+  fi
+  if ! grep -qF -- "$pattern" "$work/out.txt"; then
+    echo "FAILED: $*: no '$pattern' in its output"; tail -3 "$work/out.txt"; fails=$((fails + 1)); return
+  fi
+  echo "ok: $* -> $rc ($pattern)"
+}
+
+expect 2 "--trials" -- "$demo" --trials 1000000000 --no-files
+expect 2 "--seed" -- "$demo" --seed abc --no-files
+expect 2 "--seed" -- "$demo" --seed -1 --no-files
+expect 2 "--seed" -- "$demo" --seed 1e3 --no-files
+expect 2 "--trials" -- "$demo" --trials 2x --no-files
+expect 2 "--rate" -- "$demo" --rate 20abc --no-files
+expect 2 "--rate" -- "$demo" --rate nan --no-files
+expect 2 "--observations" -- "$demo" --observations everything --no-files
+expect 2 "--bogus" -- "$demo" --bogus
+expect 0 "Exit status" -- "$demo" --help
+expect 2 "--sigmas" -- "$replay" --sigmas nan
+expect 2 "--sigmas" -- "$replay" --sigmas inf
+expect 2 "--sigmas" -- "$replay" --sigmas 1e300
+expect 2 "--quick" -- "$replay" --quick -5
+expect 2 "--seed" -- "$replay" --seed abc
+expect 2 "$work/none/val/targets.csv" -- "$replay" --data "$work/none" --quick 5
+
+if [ -f "$data/val/targets.csv" ] && [ -f "$data/train/targets.csv" ] && [ -f "$models/train_val/gdn.onnx" ]; then
+  # Every image of the data set replaced by an empty file: the first observation fails.
+  for split in train val; do
+    mkdir -p "$work/broken/$split/processed_images"
+    cp "$data/$split/targets.csv" "$data/$split/processed_image_params.json" "$work/broken/$split/"
+    (cd "$data/$split/processed_images" && for f in *.png; do : >"$work/broken/$split/processed_images/$f"; done)
+  done
+  expect 2 "$work/broken/" -- "$demo" --data "$work/broken" --observations real --quick --trials 1 --no-files
+  # The deployed GDN with its first 4 KB zeroed, under its own card: refused by its SHA-256.
+  mkdir -p "$work/model"
+  cp "$models/train_val/model_card.json" "$models/train_val/held_out.csv" "$models/train_val/gdn.onnx" "$work/model/"
+  dd if=/dev/zero of="$work/model/gdn.onnx" bs=4096 count=1 conv=notrunc 2>/dev/null
+  expect 2 "SHA-256" -- "$demo" --model-card "$work/model/model_card.json" --quick --trials 1 --no-files
+  # A corrupted params file in val.
+  mkdir -p "$work/params"
+  for split in train val; do
+    mkdir -p "$work/params/$split"
+    cp "$data/$split/targets.csv" "$data/$split/processed_image_params.json" "$work/params/$split/"
+    ln -s "$data/$split/processed_images" "$work/params/$split/processed_images"
+  done
+  printf '{"gray": true, "bbox": [105, 20, 5' >"$work/params/val/processed_image_params.json"
+  expect 2 "$work/params/val/processed_image_params.json" -- "$demo" --data "$work/params" --observations real --quick --trials 1 --no-files
+else
+  echo "note: the TacTip data set or the deployed GDN is absent ($data, $models): the unreadable-image,"
+  echo "      corrupted-model and corrupted-params cases are skipped"
+fi
+[ "$fails" -eq 0 ] || { echo "programs.bad_input: $fails case(s) failed"; exit 1; }
+echo "programs.bad_input: every case refused as expected"
