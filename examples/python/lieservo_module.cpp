@@ -23,6 +23,47 @@ using namespace lieservo;
 
 namespace {
 
+/// Raises TypeError unless `src` holds numbers: NumPy would turn an object array (None → NaN),
+/// strings (parsed) and complex numbers (imaginary part dropped) into doubles silently.
+void requireNumeric(py::handle src, const char* what) {
+  // An ndarray's dtype is read directly (the common case, no copy); anything else goes through
+  // numpy.asarray first, as pybind11's conversion would.
+  const py::array a = py::isinstance<py::array>(src) ? py::reinterpret_borrow<py::array>(src)
+                                                      : py::array(py::module_::import("numpy").attr("asarray")(src));
+  const char kind = a.dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u' && kind != 'b')
+    throw py::type_error(std::string(what) + ": expected real numbers, got an array of dtype " +
+                         py::str(a.dtype()).cast<std::string>());
+}
+
+/// A fixed-size Eigen argument whose elements are checked to be real numbers before pybind11's
+/// Eigen conversion (which checks the shape).
+template <class T>
+struct Checked {
+  T value;
+};
+
+}  // namespace
+
+namespace pybind11::detail {
+template <class T>
+struct type_caster<Checked<T>> {
+  PYBIND11_TYPE_CASTER(Checked<T>, make_caster<T>::name);
+  bool load(handle src, bool convert) {
+    if (convert && !src.is_none()) requireNumeric(src, "lieservo: an array argument");
+    make_caster<T> inner;
+    if (!inner.load(src, convert)) return false;
+    value.value = cast_op<T&&>(std::move(inner));
+    return true;
+  }
+  static handle cast(const Checked<T>& v, return_value_policy policy, handle parent) {
+    return make_caster<T>::cast(v.value, policy, parent);
+  }
+};
+}  // namespace pybind11::detail
+
+namespace {
+
 /// Raised for every Status other than ok (outlier_rejected is reported, not raised).
 struct StatusError {
   Status status;
@@ -60,16 +101,16 @@ FusionForm fusionForm(const std::string& name, const char* where) {
 }
 
 template <class G>
-G checkedFromMatrix(const typename G::Matrix& M) {
+G checkedFromMatrix(const Checked<typename G::Matrix>& M) {
   G out;
-  check(G::fromMatrix(M, out), "from_matrix");
+  check(G::fromMatrix(M.value, out), "from_matrix");
   return out;
 }
 
 template <class G>
-G checkedFromMatrixProjected(const typename G::Matrix& M) {
+G checkedFromMatrixProjected(const Checked<typename G::Matrix>& M) {
   G out;
-  check(G::fromMatrixProjected(M, out), "from_matrix_projected");
+  check(G::fromMatrixProjected(M.value, out), "from_matrix_projected");
   return out;
 }
 
@@ -86,6 +127,14 @@ py::array_t<double> matrix2d(const M& m) {
 
 /// Rows of an (N, D) float64 array, C-contiguous (NumPy converts other layouts on the way in).
 using Rows = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+/// `src` as Rows: refuses what is not real numbers (TypeError); NumPy's own conversion, so that
+/// an allocation failure (a huge broadcast array) raises MemoryError.
+Rows rowsOf(const py::object& src, const char* what) {
+  requireNumeric(src, what);
+  py::object a = py::module_::import("numpy").attr("ascontiguousarray")(src, py::dtype::of<double>());
+  return Rows::ensure(a);
+}
 
 void requireShape(const Rows& a, std::initializer_list<py::ssize_t> tail, const char* what) {
   const auto nd = static_cast<std::size_t>(a.ndim());
@@ -112,28 +161,28 @@ py::class_<G> bindGroup(py::module_& m, const char* name, const char* doc) {
   py::class_<G> c(m, name, doc);
   c.def(py::init<>(), "The identity.")
       .def_static("identity", &G::identity)
-      .def_static("exp", [](const Tangent& xi) { return G::exp(xi); }, py::arg("xi"),
+      .def_static("exp", [](const Checked<Tangent>& xi) { return G::exp(xi.value); }, py::arg("xi"),
                   "exp(ξ^): the element of the tangent vector ξ (translation first, radians).")
       .def("log", [](const G& X) { return Tangent(X.log()); }, "ln(X)^∨, principal branch.")
       .def("inverse", &G::inverse)
       .def("Ad", [](const G& X) { return matrix2d(Jacobian(X.Ad())); }, "The adjoint matrix Ad(X).")
-      .def_static("ad", [](const Tangent& xi) { return matrix2d(Jacobian(G::ad(xi))); }, py::arg("xi"))
-      .def_static("hat", [](const Tangent& xi) { return Matrix(G::hat(xi)); }, py::arg("xi"))
-      .def_static("vee", [](const Matrix& M) { return Tangent(G::vee(M)); }, py::arg("M"))
-      .def_static("left_jacobian", [](const Tangent& xi) { return matrix2d(Jacobian(G::leftJacobian(xi))); },
+      .def_static("ad", [](const Checked<Tangent>& xi) { return matrix2d(Jacobian(G::ad(xi.value))); }, py::arg("xi"))
+      .def_static("hat", [](const Checked<Tangent>& xi) { return Matrix(G::hat(xi.value)); }, py::arg("xi"))
+      .def_static("vee", [](const Checked<Matrix>& M) { return Tangent(G::vee(M.value)); }, py::arg("M"))
+      .def_static("left_jacobian", [](const Checked<Tangent>& xi) { return matrix2d(Jacobian(G::leftJacobian(xi.value))); },
                   py::arg("xi"), "J(ξ), closed form (eq. 33, eqn:left_jacobian_def).")
       .def_static("left_jacobian_inverse",
-                  [](const Tangent& xi) { return matrix2d(Jacobian(G::leftJacobianInverse(xi))); }, py::arg("xi"))
+                  [](const Checked<Tangent>& xi) { return matrix2d(Jacobian(G::leftJacobianInverse(xi.value))); }, py::arg("xi"))
       .def("matrix", [](const G& X) { return Matrix(X.matrix()); }, "The homogeneous (or rotation) matrix.")
       .def_static("from_matrix", &checkedFromMatrix<G>, py::arg("M"),
-                  "Checked: finite, orthonormal rotation with det +1 (1e-9), homogeneous bottom row.")
+                  "Checked: finite, homogeneous bottom row, and a rotation block C with ‖CᵀC − I‖_F ≤ √ε (1.5e-8) and det C > 0.")
       .def_static("from_matrix_projected", &checkedFromMatrixProjected<G>, py::arg("M"),
                   "The nearest element to M (rotation block projected onto the group).")
       .def("__mul__", [](const G& a, const G& b) { return G(a * b); }, py::is_operator())
       .def("compose", [](const G& a, const G& b) { return G(a * b); }, py::arg("other"))
-      .def("act", [](const G& X, const typename G::Point& p) { return typename G::Point(X * p); }, py::arg("p"),
+      .def("act", [](const G& X, const Checked<typename G::Point>& p) { return typename G::Point(X * p.value); }, py::arg("p"),
            "X·p for a point p.")
-      .def("lplus", [](const G& X, const Tangent& e) { return lplus(X, e); }, py::arg("eps"),
+      .def("lplus", [](const G& X, const Checked<Tangent>& e) { return lplus(X, e.value); }, py::arg("eps"),
            "X ⊕ ε = exp(ε^) X.")
       .def("lminus", [](const G& X, const G& Y) { return Tangent(lminus(X, Y)); }, py::arg("Y"),
            "X ⊖ Y = ln(X Y⁻¹)^∨.")
@@ -151,45 +200,54 @@ py::class_<G> bindGroup(py::module_& m, const char* name, const char* doc) {
   using In = Eigen::Map<const RowMajor>;
   using Out = Eigen::Map<RowMajor>;
   // The checked element of A[k]; throws StatusError naming `what`.
-  auto element = [](const Rows& A, py::ssize_t k, const char* what) {
+  auto element = [](const double* A, py::ssize_t k, const char* what) {
     G X;
-    const Status s = G::fromMatrix(Matrix(In(A.data() + k * N * N)), X);
+    const Status s = G::fromMatrix(Matrix(In(A + k * N * N)), X);
     if (s != Status::ok) throw StatusError{s, what};
     return X;
   };
   c.def_static(
       "exp_batch",
-      [](const Rows& xi) {
+      [](const py::object& xi_in) {
+        const Rows xi = rowsOf(xi_in, "exp_batch");
         requireShape(xi, {D}, "exp_batch");
         const py::ssize_t n = xi.shape(0);
         py::array_t<double> out({n, py::ssize_t(N), py::ssize_t(N)});
-        for (py::ssize_t k = 0; k < n; ++k)
-          Out(out.mutable_data() + k * N * N) = G::exp(Eigen::Map<const Tangent>(xi.data() + k * D)).matrix();
+        const double* in = xi.data();
+        double* o = out.mutable_data();
+        py::gil_scoped_release free_gil;  // raw buffers only from here
+        for (py::ssize_t k = 0; k < n; ++k) Out(o + k * N * N) = G::exp(Eigen::Map<const Tangent>(in + k * D)).matrix();
         return out;
       },
       py::arg("xi"), "exp of each row of an (N, dof) array: an (N, n, n) array of matrices.");
   c.def_static(
       "log_batch",
-      [element](const Rows& Ms) {
+      [element](const py::object& Ms_in) {
+        const Rows Ms = rowsOf(Ms_in, "log_batch");
         requireShape(Ms, {N, N}, "log_batch");
         const py::ssize_t n = Ms.shape(0);
         py::array_t<double> out({n, py::ssize_t(D)});
-        for (py::ssize_t k = 0; k < n; ++k)
-          Eigen::Map<Tangent>(out.mutable_data() + k * D) = element(Ms, k, "log_batch").log();
+        const double* in = Ms.data();
+        double* o = out.mutable_data();
+        py::gil_scoped_release free_gil;
+        for (py::ssize_t k = 0; k < n; ++k) Eigen::Map<Tangent>(o + k * D) = element(in, k, "log_batch").log();
         return out;
       },
       py::arg("M"), "log of each (checked) matrix of an (N, n, n) array: an (N, dof) array.");
   c.def_static(
       "compose_batch",
-      [element](const Rows& A, const Rows& B) {
+      [element](const py::object& A_in, const py::object& B_in) {
+        const Rows A = rowsOf(A_in, "compose_batch"), B = rowsOf(B_in, "compose_batch");
         requireShape(A, {N, N}, "compose_batch");
         requireShape(B, {N, N}, "compose_batch");
         if (A.shape(0) != B.shape(0)) throw py::value_error("compose_batch: A and B differ in length");
         const py::ssize_t n = A.shape(0);
         py::array_t<double> out({n, py::ssize_t(N), py::ssize_t(N)});
+        const double *a = A.data(), *b = B.data();
+        double* o = out.mutable_data();
+        py::gil_scoped_release free_gil;
         for (py::ssize_t k = 0; k < n; ++k)
-          Out(out.mutable_data() + k * N * N) =
-              (element(A, k, "compose_batch") * element(B, k, "compose_batch")).matrix();
+          Out(o + k * N * N) = (element(a, k, "compose_batch") * element(b, k, "compose_batch")).matrix();
         return out;
       },
       py::arg("A"), py::arg("B"), "A[k]·B[k] for (N, n, n) arrays of (checked) matrices.");
@@ -205,10 +263,10 @@ void bindEstimation(py::module_& m, const std::string& suffix) {
   const std::string gname = "ConcentratedGaussian" + suffix;
   py::class_<Gaussian>(m, gname.c_str(),
                        "X = exp(ε^) X̄ with ε ~ N(0, Σ): `mean` (a group element), `covariance`.")
-      .def(py::init([](const G& mean, const Jacobian& covariance) {
+      .def(py::init([](const G& mean, const Checked<Jacobian>& covariance) {
              Gaussian g;
              g.mean = mean;
-             g.covariance = covariance;
+             g.covariance = covariance.value;
              check(g.validate(), "ConcentratedGaussian");
              return g;
            }),
@@ -218,9 +276,9 @@ void bindEstimation(py::module_& m, const std::string& suffix) {
 
   m.def(
       ("from_tangent_gaussian" + suffix).c_str(),
-      [](const Tangent& mu, const Tangent& sigma) {
+      [](const Checked<Tangent>& mu, const Checked<Tangent>& sigma) {
         Gaussian out;
-        check(fromTangentGaussian<ClosedFormJacobian>(mu, sigma, out), "from_tangent_gaussian");
+        check(fromTangentGaussian<ClosedFormJacobian>(mu.value, sigma.value, out), "from_tangent_gaussian");
         return out;
       },
       py::arg("mu"), py::arg("sigma"),
@@ -237,12 +295,12 @@ void bindEstimation(py::module_& m, const std::string& suffix) {
         o.form = fusionForm(form, "fuse");
         FusionResult<G> r;
         Status s;
-        if (jacobian == "paper")
-          s = fuse<PaperJacobian>(a, b, o, r);
-        else if (jacobian == "closed_form")
-          s = fuse<ClosedFormJacobian>(a, b, o, r);
-        else
+        if (jacobian != "paper" && jacobian != "closed_form")
           throw py::value_error("fuse: jacobian must be 'paper' or 'closed_form', got '" + jacobian + "'");
+        {
+          py::gil_scoped_release free_gil;  // a and b are not changed; r is this call's own
+          s = jacobian == "paper" ? fuse<PaperJacobian>(a, b, o, r) : fuse<ClosedFormJacobian>(a, b, o, r);
+        }
         check(s, "fuse");
         py::dict d;
         d["fused"] = r.fused;
@@ -264,7 +322,19 @@ void bindEstimation(py::module_& m, const std::string& suffix) {
       .def(py::init([](const py::object& process_noise, int max_iterations, double tolerance, bool gating,
                        double gate_probability, const std::string& form) {
              typename Filter::Options o;
-             if (!process_noise.is_none()) o.process_noise = process_noise.cast<Jacobian>();
+             if (!process_noise.is_none()) {
+               requireNumeric(process_noise, "DiscriminativeBayesFilter: process_noise");
+               const py::array a = py::module_::import("numpy").attr("asarray")(process_noise, py::dtype::of<double>());
+               if (a.ndim() != 2 || a.shape(0) != G::DoF || a.shape(1) != G::DoF) {
+                 std::ostringstream m;
+                 m << "DiscriminativeBayesFilter: process_noise must be a (" << G::DoF << ", " << G::DoF
+                   << ") array, got shape (";
+                 for (py::ssize_t i = 0; i < a.ndim(); ++i) m << (i ? ", " : "") << a.shape(i);
+                 m << ")";
+                 throw py::value_error(m.str());
+               }
+               o.process_noise = a.cast<Jacobian>();
+             }
              o.fusion.max_iterations = max_iterations;
              o.fusion.tolerance = tolerance;
              o.fusion.form = fusionForm(form, "DiscriminativeBayesFilter");
@@ -280,7 +350,11 @@ void bindEstimation(py::module_& m, const std::string& suffix) {
       .def(
           "step",
           [](Filter& f, const G& sensor_pose, const Gaussian& observation) {
-            const Status s = f.step(sensor_pose, observation);
+            Status s;
+            {
+              py::gil_scoped_release free_gil;  // one filter object per thread (docs/python.md)
+              s = f.step(sensor_pose, observation);
+            }
             if (s == Status::outlier_rejected) return false;
             check(s, "step");
             return true;
@@ -333,9 +407,9 @@ PaperGainConvention convention(double control_period) {
 void bindControl(py::module_& m) {
   using Pid = MimoPid<double, 6>;
   py::class_<Pid>(m, "MimoPid", "The 6-channel PID with feedforward (eq. 19, eqn:ff_fb_pid_control), diagonal gains.")
-      .def(py::init([](const Vec6& kp, const Vec6& ki, const Vec6& kd, double integral_clip, double output_clip,
-                       double smoothing) {
-             Pid::Options o = Pid::Options::diagonal(kp, ki, kd);
+      .def(py::init([](const Checked<Vec6>& kp, const Checked<Vec6>& ki, const Checked<Vec6>& kd, double integral_clip,
+                       double output_clip, double smoothing) {
+             Pid::Options o = Pid::Options::diagonal(kp.value, ki.value, kd.value);
              o.clipIntegral(-integral_clip, integral_clip).clipOutput(-output_clip, output_clip);
              o.smoothing = smoothing;
              check(Pid::validate(o), "MimoPid");
@@ -347,9 +421,9 @@ void bindControl(py::module_& m) {
            "per-step weight α ∈ (0, 1] of the newest error in the smoothed error (1 = none).")
       .def(
           "update",
-          [](Pid& pid, const Vec6& error, const Vec6& feedforward, double dt) {
+          [](Pid& pid, const Checked<Vec6>& error, const Checked<Vec6>& feedforward, double dt) {
             Vec6 u;
-            check(pid.update(error, feedforward, dt, u), "update");
+            check(pid.update(error.value, feedforward.value, dt, u), "update");
             return u;
           },
           py::arg("error"), py::arg("feedforward"), py::arg("dt"))
@@ -388,7 +462,7 @@ void bindControl(py::module_& m) {
           "One cycle: X_sf (filtered) and dt > 0 → the sensor body twist u = [v (mm/s); ω (rad/s)].")
       .def("set_reference", [](Servo& c, const SE3d& X) { check(c.setReference(X), "set_reference"); },
            py::arg("reference_sensor_in_feature"))
-      .def("set_feedforward", [](Servo& c, const Vec6& v) { check(c.setFeedforward(v), "set_feedforward"); },
+      .def("set_feedforward", [](Servo& c, const Checked<Vec6>& v) { check(c.setFeedforward(v.value), "set_feedforward"); },
            py::arg("feedforward_in_reference"))
       .def("reset", &Servo::reset)
       .def_property_readonly("tangent_error", [](const Servo& c) { return Vec6(c.tangentError()); })
@@ -497,16 +571,22 @@ PYBIND11_MODULE(lieservo, m) {
        const auto q = R.unitQuaternion();
        return Eigen::Vector4d(q.w(), q.x(), q.y(), q.z());
      }, "Unit quaternion [w, x, y, z], w ≥ 0.")
-      .def_static("from_quaternion", [](const Eigen::Vector4d& wxyz) {
-        if (!wxyz.allFinite() || !(wxyz.squaredNorm() > 0.0)) throw StatusError{Status::invalid_argument, "from_quaternion"};
-        return SO3d::fromQuaternion(Eigen::Quaterniond(wxyz(0), wxyz(1), wxyz(2), wxyz(3)));
+      .def_static("from_quaternion", [](const Checked<Eigen::Vector4d>& wxyz_in) {
+        const Eigen::Vector4d& wxyz = wxyz_in.value;
+        // Scaled by its largest component first: the squared norm of [1e155, 1e155, 0, 0]
+        // overflows and that of [1e-160, 1e-160, 0, 0] underflows, either way a NaN rotation.
+        const double big = wxyz.cwiseAbs().maxCoeff();
+        if (!wxyz.allFinite() || !(big > 0.0)) throw StatusError{Status::invalid_argument, "from_quaternion"};
+        const Eigen::Vector4d q = wxyz / big;
+        return SO3d::fromQuaternion(Eigen::Quaterniond(q(0), q(1), q(2), q(3)));
       }, py::arg("wxyz"), "From a non-zero quaternion [w, x, y, z] (normalised).");
   auto se3 = bindGroup<SE3d>(m, "SE3", "Rigid motions; tangent: ξ = [ρ; φ] (translation first).");
-  se3.def(py::init([](const SO3d& R, const Eigen::Vector3d& t) { return SE3d(R, t); }), py::arg("rotation"),
+  se3.def(py::init([](const SO3d& R, const Checked<Eigen::Vector3d>& t) { return SE3d(R, t.value); }), py::arg("rotation"),
           py::arg("translation"))
       .def_property_readonly("rotation", [](const SE3d& X) { return X.so3(); })
       .def_property_readonly("translation", [](const SE3d& X) { return Eigen::Vector3d(X.translation()); })
-      .def_static("from_euler_xyz6_degrees", [](const Eigen::Matrix<double, 6, 1>& e) {
+      .def_static("from_euler_xyz6_degrees", [](const Checked<Eigen::Matrix<double, 6, 1>>& e_in) {
+        const Eigen::Matrix<double, 6, 1>& e = e_in.value;
         if (!e.allFinite()) throw StatusError{Status::non_finite_input, "from_euler_xyz6_degrees"};
         return SE3d::fromEulerXYZ6Degrees(e);
       }, py::arg("e"), "From (x, y, z, α, β, γ): extrinsic x-y-z Euler angles in degrees (the data set's labels).");
