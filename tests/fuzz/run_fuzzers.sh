@@ -7,7 +7,7 @@
 # The build directory must be configured with clang and fuzzers enabled, e.g.
 #   CXX=clang++ cmake -S . -B build-fuzz -DLIESERVO_BUILD_FUZZERS=ON \
 #       -DLIESERVO_BUILD_EXAMPLES=OFF -DLIESERVO_BUILD_BENCHMARKS=OFF
-#   cmake --build build-fuzz --target fuzz_log fuzz_fusion fuzz_filter fuzz_control
+#   cmake --build build-fuzz --target fuzz_log fuzz_fusion fuzz_filter fuzz_control fuzz_realtime fuzz_cli
 # Corpora (kept between runs) and crash artifacts go to <build_dir>/tests/fuzz/.
 set -u
 if [ $# -lt 1 ]; then
@@ -18,7 +18,7 @@ build=$1
 secs=${2:-60}
 dir="$build/tests/fuzz"
 jobs=${FUZZ_JOBS:-$(nproc)}   # targets fuzzed at once, one core each
-targets=(fuzz_log fuzz_fusion fuzz_filter fuzz_control)
+targets=(fuzz_log fuzz_fusion fuzz_filter fuzz_control fuzz_realtime fuzz_cli)
 for t in "${targets[@]}"; do
   if [ ! -x "$dir/$t" ]; then
     echo "missing $dir/$t (build the fuzz targets first)" >&2

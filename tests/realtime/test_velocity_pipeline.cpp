@@ -222,9 +222,11 @@ TEST_CASE("pipeline: bad pose or command -> Status, output and state unchanged, 
   PipelineOptions o = options();
   o.mount.R_es(0, 0) = 0.5;
   CHECK(pipe.configure(o) == Status::not_orthonormal);
-  o = options();
-  o.control_period_s = 0;
-  CHECK(pipe.configure(o) == Status::invalid_time_step);
+  for (const double period : {0.0, 2.0, 1e-7, std::numeric_limits<double>::max()}) {
+    o = options();
+    o.control_period_s = period;
+    CHECK(pipe.configure(o) == (std::isfinite(period) ? Status::invalid_time_step : Status::non_finite_input));
+  }
   o = options();
   o.limits.translation.velocity = -1;
   CHECK(pipe.configure(o) == Status::invalid_argument);

@@ -279,7 +279,8 @@ TEST_CASE("smoother: bad input returns a Status and leaves the state unchanged",
   const Twist v0 = s.velocity(), a0 = s.acceleration();
   const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
 
-  for (double dt : {0.0, -1e-3, nan, inf, -inf}) {
+  // Outside [1e-6, 1] s too: a period whose products with the limits could overflow.
+  for (double dt : {0.0, -1e-3, nan, inf, -inf, 1e-7, 2.0, 1e300}) {
     Twist out = Twist::Constant(7.0);
     CHECK(s.step(target, dt) == Status::invalid_time_step);
     CHECK(s.step(target, dt, out) == Status::invalid_time_step);
@@ -303,6 +304,19 @@ TEST_CASE("smoother: bad input returns a Status and leaves the state unchanged",
   l = SmootherLimits<double>{};
   l.rotation.acceleration = -1;
   CHECK(s.setLimits(l) == Status::invalid_argument);
+  // Beyond [1e-9, 1e9], or an acceleration ramp A/J over 1000 s (limits and periods near
+  // 1.8e308 would turn the output into NaN).
+  for (const double x : {1e10, std::numeric_limits<double>::max(), 1e-10}) {
+    l = SmootherLimits<double>{};
+    l.translation.velocity = x;
+    CHECK(s.setLimits(l) == Status::invalid_argument);
+  }
+  l = SmootherLimits<double>{};
+  l.rotation.acceleration = 1e4, l.rotation.jerk = 1;
+  CHECK(s.setLimits(l) == Status::invalid_argument);
+  l.rotation.jerk = 10;  // a ramp of 1000 s: the bound itself
+  CHECK(s.setLimits(l) == Status::ok);
+  CHECK(s.setLimits(before) == Status::ok);
   CHECK(s.limits().translation.jerk == before.translation.jerk);
 
   Twist too_fast = Twist::Zero();

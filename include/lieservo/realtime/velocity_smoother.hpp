@@ -46,16 +46,18 @@
 
 namespace lieservo::realtime {
 
-/// Velocity, acceleration and jerk limits of one part (linear or angular), > 0, finite.
+/// Velocity, acceleration and jerk limits of one part (linear or angular). Valid: each in
+/// [1e-9, 1e9] and the acceleration ramp A/J at most 1000 s. Within these bounds, and at a step
+/// dt in [1e-6, 1] s (VelocitySmoother::step), no product the smoother forms overflows, in
+/// float as in double; any robot's limits, in m or mm, are far inside them.
 template <typename Scalar = double>
 struct AxisLimits {
   Scalar velocity;
   Scalar acceleration;
   Scalar jerk;
-
   bool valid() const noexcept {
-    return std::isfinite(velocity) && std::isfinite(acceleration) && std::isfinite(jerk) &&
-           velocity > Scalar(0) && acceleration > Scalar(0) && jerk > Scalar(0);
+    const auto inRange = [](Scalar x) { return x >= Scalar(1e-9) && x <= Scalar(1e9); };  // false for NaN
+    return inRange(velocity) && inRange(acceleration) && inRange(jerk) && acceleration <= Scalar(1e3) * jerk;
   }
 };
 
@@ -277,10 +279,11 @@ class VelocitySmoother {
     return Status::ok;
   }
 
-  /// One step of length dt towards `target`. dt <= 0 or non-finite → invalid_time_step;
-  /// non-finite target → non_finite_input; state unchanged in both cases.
+  /// One step of length dt (s) towards `target`. dt outside [1e-6, 1] s (a robot's command
+  /// period is about 1e-3 s), or not a number → invalid_time_step; non-finite target →
+  /// non_finite_input; state unchanged in both cases.
   Status step(const Twist& target, Scalar dt) noexcept {
-    if (!(dt > Scalar(0)) || !std::isfinite(dt)) return Status::invalid_time_step;
+    if (!(dt >= Scalar(1e-6) && dt <= Scalar(1))) return Status::invalid_time_step;
     if (!target.allFinite()) return Status::non_finite_input;
     lin_.step(target.template head<3>(), limits_.translation, dt);
     ang_.step(target.template tail<3>(), limits_.rotation, dt);
