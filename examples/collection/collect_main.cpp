@@ -3,7 +3,7 @@
 //   lieservo_collect --out DIR [--samples N] [--seed S] [--stop-after K] [--sort-by-depth]
 //                    [--r-max MM] [--z-min MM] [--z-max MM] [--phi-max DEG]
 //                    [--gamma-min DEG] [--gamma-max DEG] [--start-height MM]
-//                    [--image-size W H] [--source synthetic] [--quiet]
+//                    [--image-size W H] [--source synthetic] [--quiet]   (--help: all of them)
 //
 // Running the same command again after an interruption (Ctrl-C, crash, --stop-after) resumes
 // at the next sample. This build drives the kinematic stand-in arm and the synthetic image
@@ -12,95 +12,73 @@
 #include "collector.hpp"
 #include "kinematic_arm.hpp"
 
+#include <lieservo_cli/cli.hpp>
+
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace {
 
 volatile std::sig_atomic_t g_stop = 0;
 extern "C" void onSignal(int) { g_stop = 1; }
 
-void usage(std::ostream& os) {
-  os << "usage: lieservo_collect --out DIR [options]\n"
-        "  --samples N          number of samples in the plan (default 20)\n"
-        "  --seed S             seed of the sampling plan (default 1)\n"
-        "  --stop-after K       stop after K new samples in this run (resume later)\n"
-        "  --sort-by-depth      order the plan by increasing depth z\n"
-        "  --r-max MM           shear disk radius (default 5)\n"
-        "  --z-min MM --z-max MM  depth range (default 0.5 6)\n"
-        "  --phi-max DEG        contact-angle cap half-angle (default 25)\n"
-        "  --gamma-min DEG --gamma-max DEG  rotational shear range (default -5 5)\n"
-        "  --start-height MM    start point above the surface (default 10)\n"
-        "  --image-size W H     synthetic image size (default 128 128)\n"
-        "  --source NAME        image source: synthetic (default)\n"
-        "  --quiet              no progress lines\n";
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace lieservo::collection;
+  namespace cli = lieservo::cli;
   CollectionConfig cfg;
-  int width = 128, height = 128;
+  std::vector<int> image_size{128, 128};
   std::string source = "synthetic";
-  try {
-    for (int a = 1; a < argc; ++a) {
-      const std::string k = argv[a];
-      auto next = [&]() -> std::string {
-        if (a + 1 >= argc) throw DatasetError("missing value after " + k);
-        return argv[++a];
-      };
-      auto num = [&]() -> double {
-        const std::string v = next();
-        char* end = nullptr;
-        const double x = std::strtod(v.c_str(), &end);
-        if (end == v.c_str() || *end != '\0' || !std::isfinite(x)) throw DatasetError("bad number '" + v + "' after " + k);
-        return x;
-      };
-      auto count = [&]() -> unsigned long long {
-        const std::string v = next();
-        char* end = nullptr;
-        const unsigned long long x = std::strtoull(v.c_str(), &end, 10);
-        if (end == v.c_str() || *end != '\0' || v[0] == '-') throw DatasetError("bad count '" + v + "' after " + k);
-        return x;
-      };
-      if (k == "--out") cfg.out_dir = next();
-      else if (k == "--samples") cfg.n_samples = count();
-      else if (k == "--seed") cfg.seed = count();
-      else if (k == "--stop-after") cfg.stop_after = count();
-      else if (k == "--sort-by-depth") cfg.sort_by_depth = true;
-      else if (k == "--r-max") cfg.ranges.r_max_mm = num();
-      else if (k == "--z-min") cfg.ranges.z_min_mm = num();
-      else if (k == "--z-max") cfg.ranges.z_max_mm = num();
-      else if (k == "--phi-max") cfg.ranges.phi_max_deg = num();
-      else if (k == "--gamma-min") cfg.ranges.gamma_min_deg = num();
-      else if (k == "--gamma-max") cfg.ranges.gamma_max_deg = num();
-      else if (k == "--start-height") cfg.start_height_mm = num();
-      else if (k == "--image-size") {
-        width = static_cast<int>(count());
-        height = static_cast<int>(count());
-      } else if (k == "--source") source = next();
-      else if (k == "--quiet") cfg.progress = false;
-      else if (k == "--crash-at") cfg.crash_at = count();            // test hook (hidden)
-      else if (k == "--crash-point") cfg.crash_point = static_cast<int>(count());
-      else if (k == "--help" || k == "-h") {
-        usage(std::cout);
-        return 0;
-      } else {
-        throw DatasetError("unknown option '" + k + "'");
-      }
-    }
-    if (cfg.out_dir.empty()) throw DatasetError("--out DIR is required");
-    if (width <= 0 || height <= 0 || width > 4096 || height > 4096) throw DatasetError("--image-size must be in 1..4096");
-  } catch (const DatasetError& e) {
-    std::cerr << "lieservo_collect: " << e.what() << "\n";
-    usage(std::cerr);
-    return 2;
-  }
+  bool quiet = false;
+  CLI::App app("lieservo_collect: collect (or resume) a pose-and-shear training set (the paper's Algorithm 1).\n"
+               "Running the same command again after an interruption resumes at the next sample. Exit status:\n"
+               "0 done, 1 a collection error (e.g. a resume with other parameters), 2 bad usage.",
+               "lieservo_collect");
+  app.add_option("--out", cfg.out_dir, "the data set's folder")->required();
+  app.add_option("--samples", cfg.n_samples, "number of samples in the plan")
+      ->capture_default_str()
+      ->check(cli::integerIn<std::size_t>(1, 100000000));
+  app.add_option("--seed", cfg.seed, "seed of the sampling plan")
+      ->capture_default_str()
+      ->check(cli::integerIn<std::uint64_t>(0, std::numeric_limits<std::uint64_t>::max()));
+  app.add_option("--stop-after", cfg.stop_after, "stop after K new samples in this run (resume later)")
+      ->check(cli::integerIn<std::size_t>(0, std::numeric_limits<std::size_t>::max()));
+  app.add_flag("--sort-by-depth", cfg.sort_by_depth, "order the plan by increasing depth z");
+  const double big = 1e6;
+  app.add_option("--r-max", cfg.ranges.r_max_mm, "shear disk radius (mm)")->capture_default_str()->check(cli::finiteIn(-big, big));
+  app.add_option("--z-min", cfg.ranges.z_min_mm, "least depth (mm)")->capture_default_str()->check(cli::finiteIn(-big, big));
+  app.add_option("--z-max", cfg.ranges.z_max_mm, "greatest depth (mm)")->capture_default_str()->check(cli::finiteIn(-big, big));
+  app.add_option("--phi-max", cfg.ranges.phi_max_deg, "contact-angle cap half-angle (deg)")
+      ->capture_default_str()
+      ->check(cli::finiteIn(-big, big));
+  app.add_option("--gamma-min", cfg.ranges.gamma_min_deg, "least rotational shear (deg)")
+      ->capture_default_str()
+      ->check(cli::finiteIn(-big, big));
+  app.add_option("--gamma-max", cfg.ranges.gamma_max_deg, "greatest rotational shear (deg)")
+      ->capture_default_str()
+      ->check(cli::finiteIn(-big, big));
+  app.add_option("--start-height", cfg.start_height_mm, "start point above the surface (mm)")
+      ->capture_default_str()
+      ->check(cli::finiteIn(-big, big));
+  app.add_option("--image-size", image_size, "synthetic image size W H")
+      ->expected(2)
+      ->capture_default_str()
+      ->check(cli::integerIn(1, 4096));
+  app.add_option("--source", source, "image source")->capture_default_str()->check(CLI::IsMember({"synthetic"}));
+  app.add_flag("--quiet", quiet, "no progress lines");
+  // Test hooks (tests/collection): terminate while writing sample N, at point P.
+  app.add_option("--crash-at", cfg.crash_at)->group("")->check(cli::integerIn<std::size_t>(0, 100000000));
+  app.add_option("--crash-point", cfg.crash_point)->group("")->check(cli::integerIn(0, 1));
+  if (const int status = cli::parse(app, argc, argv); status >= 0) return status;
+  if (quiet) cfg.progress = false;
+  const int width = image_size[0], height = image_size[1];
 
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
@@ -112,12 +90,7 @@ int main(int argc, char** argv) {
     KinematicArm arm(X_wf);
     // (2) The image source. A camera ImageSource (examples/adapters) plugs in here.
     std::unique_ptr<ImageSource> camera;
-    if (source == "synthetic") {
-      camera = std::make_unique<SyntheticTactileSource>(arm, X_wf, width, height);
-    } else {
-      std::cerr << "lieservo_collect: unknown --source '" << source << "' (this build has: synthetic)\n";
-      return 2;
-    }
+    camera = std::make_unique<SyntheticTactileSource>(arm, X_wf, width, height);  // --source synthetic
     const CollectionResult r = runCollection(cfg, arm, *camera);
     std::cerr << "[lieservo_collect] " << cfg.out_dir << ": " << r.rows_after << "/" << cfg.n_samples << " samples ("
               << r.written << " written now, " << r.rows_before << " found)"
