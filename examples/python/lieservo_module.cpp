@@ -420,10 +420,10 @@ void bindControl(py::module_& m) {
            "Gains per channel (kp 1/s, ki 1/s², kd dimensionless), symmetric clips of ∫e dt and u, and the "
            "per-step weight α ∈ (0, 1] of the newest error in the smoothed error (1 = none).")
       .def(
-          "update",
+          "step",
           [](Pid& pid, const Checked<Vec6>& error, const Checked<Vec6>& feedforward, double dt) {
             Vec6 u;
-            check(pid.update(error.value, feedforward.value, dt, u), "update");
+            check(pid.step(error.value, feedforward.value, dt, u), "step");
             return u;
           },
           py::arg("error"), py::arg("feedforward"), py::arg("dt"))

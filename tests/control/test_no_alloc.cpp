@@ -47,9 +47,9 @@ TEST_CASE("no allocation per step: PIDs and servo controllers on every group", "
       V6 e = V6::Zero();
       for (int i = 0; i < 6; ++i) e[i] = std::sin(t + i);
       V6 u = V6::Zero();
-      failures += mimo.update(e, V6::Zero(), 0.001, u) != Status::ok;
+      failures += mimo.step(e, V6::Zero(), 0.001, u) != Status::ok;
       double uy = 0;
-      failures += siso.update(e[0], 0.0, 0.001, uy) != Status::ok;
+      failures += siso.step(e[0], 0.0, 0.001, uy) != Status::ok;
       failures += servo.step(G::exp(0.1 * e), 0.001, u) != Status::ok;
       SE2<double>::Tangent u2 = SE2<double>::Tangent::Zero();
       failures += servo2.step(SE2<double>::exp(e.head<3>()), 0.001, u2) != Status::ok;

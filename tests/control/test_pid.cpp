@@ -27,7 +27,7 @@ TEST_CASE("pid: proportional term alone", "[control][pid]") {
   const double dts[] = {0.1, 0.02, 0.5};
   const V2 errors[] = {V2(1, -2), V2(0.5, 4), V2(-3, 0)};
   for (int k = 0; k < 3; ++k) {
-    REQUIRE(pid.update(errors[k], V2::Zero(), dts[k], u) == Status::ok);
+    REQUIRE(pid.step(errors[k], V2::Zero(), dts[k], u) == Status::ok);
     CHECK(u[0] == Approx(2 * errors[k][0]));
     CHECK(u[1] == Approx(3 * errors[k][1]));
   }
@@ -42,7 +42,7 @@ TEST_CASE("pid: integral term alone, backward Euler with variable dt", "[control
   const double i1[] = {-0.1, -0.1, 0.0};
   V2 u = V2::Zero();
   for (int k = 0; k < 3; ++k) {
-    REQUIRE(pid.update(errors[k], V2::Zero(), dts[k], u) == Status::ok);
+    REQUIRE(pid.step(errors[k], V2::Zero(), dts[k], u) == Status::ok);
     CHECK(pid.integral()[0] == Approx(i0[k]));
     CHECK(pid.integral()[1] == Approx(i1[k]).margin(1e-15));
     CHECK(u[0] == Approx(0.5 * i0[k]));
@@ -61,7 +61,7 @@ TEST_CASE("pid: derivative of the smoothed error, variable dt, zero on the first
   const double d[] = {0, 5, 5, -2.5};
   V2 u = V2::Zero();
   for (int k = 0; k < 4; ++k) {
-    REQUIRE(pid.update(V2(e[k], -e[k]), V2::Zero(), dts[k], u) == Status::ok);
+    REQUIRE(pid.step(V2(e[k], -e[k]), V2::Zero(), dts[k], u) == Status::ok);
     CHECK(pid.smoothedError()[0] == Approx(ebar[k]));
     CHECK(pid.derivative()[0] == Approx(d[k]).margin(1e-12));
     CHECK(u[0] == Approx(0.4 * d[k]).margin(1e-12));
@@ -69,7 +69,7 @@ TEST_CASE("pid: derivative of the smoothed error, variable dt, zero on the first
   }
   // reset → the next step is a first step again (derivative zero, ē = e)
   pid.reset();
-  REQUIRE(pid.update(V2(7, 7), V2::Zero(), 0.1, u) == Status::ok);
+  REQUIRE(pid.step(V2(7, 7), V2::Zero(), 0.1, u) == Status::ok);
   CHECK(u.isZero());
   CHECK(pid.smoothedError()[0] == 7);
 }
@@ -79,15 +79,15 @@ TEST_CASE("pid: smoothing weight and time constant", "[control][pid]") {
   o.smoothing = 0.25;  // weight of the newest sample
   Pid2 pid(o);
   V2 u = V2::Zero();
-  REQUIRE(pid.update(V2(0, 0), V2::Zero(), 0.1, u) == Status::ok);
-  REQUIRE(pid.update(V2(4, 4), V2::Zero(), 0.1, u) == Status::ok);
+  REQUIRE(pid.step(V2(0, 0), V2::Zero(), 0.1, u) == Status::ok);
+  REQUIRE(pid.step(V2(4, 4), V2::Zero(), 0.1, u) == Status::ok);
   CHECK(pid.smoothedError()[0] == Approx(1.0));  // 0.25·4 + 0.75·0
   CHECK(u[0] == Approx(10.0));                   // (1 − 0)/0.1
 
   o.smoothing_time_constant = 0.2;  // α = 1 − exp(−dt/τ)
   Pid2 pid2(o);
-  REQUIRE(pid2.update(V2(0, 0), V2::Zero(), 0.05, u) == Status::ok);
-  REQUIRE(pid2.update(V2(1, 1), V2::Zero(), 0.05, u) == Status::ok);
+  REQUIRE(pid2.step(V2(0, 0), V2::Zero(), 0.05, u) == Status::ok);
+  REQUIRE(pid2.step(V2(1, 1), V2::Zero(), 0.05, u) == Status::ok);
   const double a = 1 - std::exp(-0.05 / 0.2);
   CHECK(pid2.alpha(0.05) == Approx(a));
   CHECK(pid2.smoothedError()[0] == Approx(a));
@@ -105,7 +105,7 @@ TEST_CASE("pid: the memoised smoothing weight follows dt and the options", "[con
   const auto step = [&](double e, double dt) {
     const double a = pid.started() ? pid.alpha(dt) : 1.0;  // the first step takes e as it is
     expected = a * e + (1 - a) * expected;
-    REQUIRE(pid.update(V2(e, -e), V2::Zero(), dt, u) == Status::ok);
+    REQUIRE(pid.step(V2(e, -e), V2::Zero(), dt, u) == Status::ok);
     CHECK(pid.smoothedError()[0] == Approx(expected).epsilon(1e-14));  // a stale α is off by > 10 %
   };
   step(1.0, 0.05);
@@ -129,10 +129,10 @@ TEST_CASE("pid: feedforward passes through; zero error and zero feedforward give
   Pid2 pid(o);
   V2 u(9, 9);
   for (int k = 0; k < 50; ++k) {
-    REQUIRE(pid.update(V2::Zero(), V2::Zero(), 0.01 * (1 + k % 3), u) == Status::ok);
+    REQUIRE(pid.step(V2::Zero(), V2::Zero(), 0.01 * (1 + k % 3), u) == Status::ok);
     CHECK(u.isZero());
   }
-  REQUIRE(pid.update(V2::Zero(), V2(1.5, -2), 0.01, u) == Status::ok);
+  REQUIRE(pid.step(V2::Zero(), V2(1.5, -2), 0.01, u) == Status::ok);
   CHECK(u == V2(1.5, -2));
   CHECK(pid.lastTerms().feedforward == V2(1.5, -2));
 }
@@ -145,11 +145,11 @@ TEST_CASE("pid: full gain matrices and the sum of terms", "[control][pid]") {
   o.smoothing = 1.0;  // no smoothing: d = Δe/dt
   Pid2 pid(o);
   V2 u = V2::Zero();
-  REQUIRE(pid.update(V2(1, 1), V2(0.1, 0.2), 0.5, u) == Status::ok);
+  REQUIRE(pid.step(V2(1, 1), V2(0.1, 0.2), 0.5, u) == Status::ok);
   // P = (3, 1); I = (0.5, 0.5) → Ki I = (0.5, 0.5); D = 0
   CHECK(u[0] == Approx(0.1 + 3 + 0.5));
   CHECK(u[1] == Approx(0.2 + 1 + 0.5));
-  REQUIRE(pid.update(V2(2, 0), V2::Zero(), 0.25, u) == Status::ok);
+  REQUIRE(pid.step(V2(2, 0), V2::Zero(), 0.25, u) == Status::ok);
   // P = (2, 0); I = (1.0, 0.5) → Ki I = (0.5, 1.0); d = (4, -4) → Kd d = (2, -2)
   CHECK(u[0] == Approx(2 + 0.5 + 2));
   CHECK(u[1] == Approx(0 + 1.0 - 2));
@@ -164,16 +164,16 @@ TEST_CASE("pid: integral clipping bounds wind-up; output clipping", "[control][p
   o.output_max = V2(kInf, 0.1);
   Pid2 pid(o);
   V2 u = V2::Zero();
-  for (int k = 0; k < 1000; ++k) REQUIRE(pid.update(V2(1, 1), V2::Zero(), 0.1, u) == Status::ok);
+  for (int k = 0; k < 1000; ++k) REQUIRE(pid.step(V2(1, 1), V2::Zero(), 0.1, u) == Status::ok);
   CHECK(pid.integral()[0] == Approx(0.3));  // bounded, not 100
   CHECK(u[0] == Approx(0.3));
   CHECK(u[1] == Approx(0.1));                          // output clip
   CHECK(pid.lastTerms().unclipped[1] == Approx(0.3));  // before the clip
   // recovery is immediate: one step of opposite error moves the integral off the bound
-  REQUIRE(pid.update(V2(-1, -1), V2::Zero(), 0.1, u) == Status::ok);
+  REQUIRE(pid.step(V2(-1, -1), V2::Zero(), 0.1, u) == Status::ok);
   CHECK(pid.integral()[0] == Approx(0.2));
   // the output clip applies to the total, feedforward included
-  REQUIRE(pid.update(V2::Zero(), V2(5, 5), 0.1, u) == Status::ok);
+  REQUIRE(pid.step(V2::Zero(), V2(5, 5), 0.1, u) == Status::ok);
   CHECK(u[1] == Approx(0.1));
   CHECK(u[0] == Approx(5.2));
 }
@@ -182,17 +182,17 @@ TEST_CASE("pid: invalid time step or non-finite input leaves state and output un
           "[control][pid]") {
   Pid2 pid(Pid2::Options::diagonal(V2(1, 1), V2(1, 1), V2(1, 1)));
   V2 u = V2::Zero();
-  REQUIRE(pid.update(V2(1, 2), V2::Zero(), 0.1, u) == Status::ok);
-  REQUIRE(pid.update(V2(2, 3), V2::Zero(), 0.1, u) == Status::ok);
+  REQUIRE(pid.step(V2(1, 2), V2::Zero(), 0.1, u) == Status::ok);
+  REQUIRE(pid.step(V2(2, 3), V2::Zero(), 0.1, u) == Status::ok);
   const V2 integral = pid.integral(), smoothed = pid.smoothedError(), deriv = pid.derivative();
   const long steps = pid.steps();
   const V2 u_before = u;
   for (double dt : {0.0, -0.1, kNaN, kInf, -kInf}) {
-    CHECK(pid.update(V2(1, 1), V2::Zero(), dt, u) == Status::invalid_time_step);
+    CHECK(pid.step(V2(1, 1), V2::Zero(), dt, u) == Status::invalid_time_step);
   }
-  CHECK(pid.update(V2(kNaN, 1), V2::Zero(), 0.1, u) == Status::non_finite_input);
-  CHECK(pid.update(V2(1, kInf), V2::Zero(), 0.1, u) == Status::non_finite_input);
-  CHECK(pid.update(V2(1, 1), V2(kNaN, 0), 0.1, u) == Status::non_finite_input);
+  CHECK(pid.step(V2(kNaN, 1), V2::Zero(), 0.1, u) == Status::non_finite_input);
+  CHECK(pid.step(V2(1, kInf), V2::Zero(), 0.1, u) == Status::non_finite_input);
+  CHECK(pid.step(V2(1, 1), V2(kNaN, 0), 0.1, u) == Status::non_finite_input);
   CHECK(u == u_before);
   CHECK(pid.integral() == integral);
   CHECK(pid.smoothedError() == smoothed);
@@ -226,7 +226,7 @@ TEST_CASE("pid: option validation", "[control][pid]") {
   Pid2 refused(bad);
   V2 u(1, 1);
   CHECK(refused.configurationStatus() == Status::invalid_argument);
-  CHECK(refused.update(V2(1, 1), V2::Zero(), 0.1, u) == Status::invalid_argument);
+  CHECK(refused.step(V2(1, 1), V2::Zero(), 0.1, u) == Status::invalid_argument);
   CHECK(u == V2(1, 1));
   Pid2 good(Pid2::Options::diagonal(V2(1, 1), V2::Zero(), V2::Zero()));
   CHECK(good.configure(bad) == Status::invalid_argument);
@@ -249,14 +249,14 @@ TEST_CASE("pid: SisoPid equals MimoPid<1>", "[control][pid]") {
   for (int k = 0; k < 40; ++k) {
     const double e = std::sin(0.3 * k) * 2;
     const double dt = 0.02 + 0.01 * (k % 4);
-    REQUIRE(siso.update(e, 0.5, dt, u) == Status::ok);
-    REQUIRE(mimo.update(MimoPid<double, 1>::Vector::Constant(e), MimoPid<double, 1>::Vector::Constant(0.5),
+    REQUIRE(siso.step(e, 0.5, dt, u) == Status::ok);
+    REQUIRE(mimo.step(MimoPid<double, 1>::Vector::Constant(e), MimoPid<double, 1>::Vector::Constant(0.5),
                         dt, um) == Status::ok);
     CHECK(u == um[0]);
   }
   const double before = u;
-  CHECK(siso.update(1.0, 0.0, 0.0, u) == Status::invalid_time_step);
-  CHECK(siso.update(kNaN, 0.0, 0.1, u) == Status::non_finite_input);
+  CHECK(siso.step(1.0, 0.0, 0.0, u) == Status::invalid_time_step);
+  CHECK(siso.step(kNaN, 0.0, 0.1, u) == Status::non_finite_input);
   CHECK(u == before);
 }
 
@@ -266,7 +266,7 @@ struct PerStepPid {
   double kp, ki, kd, alpha, ilo, ihi;
   double sum = 0, ebar = 0;
   bool started = false;
-  double update(double e) {
+  double step(double e) {
     sum = std::min(ihi, std::max(ilo, sum + e));
     double d = 0;
     if (!started) {
@@ -298,8 +298,8 @@ TEST_CASE("pid: per-step gains convert as Ki/dt, Kd·dt, clip·dt (time-constant
   for (int k = 0; k < 200; ++k) {
     const double e = 8 * std::sin(0.05 * k) + 3;  // drives the integral into its clip
     double u = 0;
-    REQUIRE(pid.update(e, 0, T, u) == Status::ok);
-    CHECK(u == Approx(ref.update(e)).epsilon(1e-12).margin(1e-12));
+    REQUIRE(pid.step(e, 0, T, u) == Status::ok);
+    CHECK(u == Approx(ref.step(e)).epsilon(1e-12).margin(1e-12));
     max_integral = std::max(max_integral, std::abs(pid.integral()));
   }
   CHECK(max_integral == Approx(10 * T));  // the clip was active
@@ -346,7 +346,7 @@ TEST_CASE("pid: a clip range at +inf or -inf only is refused", "[control][pid]")
     CHECK(Pid2::validate(o) == Status::invalid_argument);
     Pid2 pid(o);
     V2 u(5, 5);
-    CHECK(pid.update(V2(1, 1), V2::Zero(), 0.1, u) == Status::invalid_argument);
+    CHECK(pid.step(V2(1, 1), V2::Zero(), 0.1, u) == Status::invalid_argument);
     CHECK(u == V2(5, 5));
   }
   // Half-open ranges stay valid.

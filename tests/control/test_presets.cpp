@@ -36,7 +36,7 @@ struct PaperStepPid {
   double kp, ki, kd, clip, out_clip;
   double sum = 0, ebar = 0;
   bool started = false;
-  double update(double e) {
+  double step(double e) {
     sum = std::clamp(sum + e, -clip, clip);
     double d = 0;
     if (started) {
@@ -154,8 +154,8 @@ TEST_CASE("presets: converted bearing PID equals the paper's per-step PID in deg
     for (int k = 0; k < 300; ++k) {
       const double e_deg = 12 * std::sin(0.04 * k) + 4 * std::cos(0.31 * k);  // bearing error
       double u = 0;
-      REQUIRE(lib.update(deg2rad(e_deg), 0, T, u) == Status::ok);
-      CHECK(u == Approx(ref.update(e_deg)).epsilon(1e-9).margin(1e-9));  // both mm/s
+      REQUIRE(lib.step(deg2rad(e_deg), 0, T, u) == Status::ok);
+      CHECK(u == Approx(ref.step(e_deg)).epsilon(1e-9).margin(1e-9));  // both mm/s
     }
   }
 }
@@ -173,9 +173,9 @@ TEST_CASE("presets: converted MIMO PID equals the paper's per-step PID in mm and
       V6 e_lib = e_paper;
       e_lib.tail<3>() *= kDeg;
       V6 u = V6::Zero();
-      REQUIRE(lib.update(e_lib, V6::Zero(), T, u) == Status::ok);
+      REQUIRE(lib.step(e_lib, V6::Zero(), T, u) == Status::ok);
       for (int i = 0; i < 6; ++i) {
-        const double expect = ref[i].update(e_paper[i]);       // mm/s or deg/s
+        const double expect = ref[i].step(e_paper[i]);       // mm/s or deg/s
         const double got = i < 3 ? u[i] : rad2deg(u[i]);       // library: mm/s or rad/s
         CHECK(got == Approx(expect).epsilon(1e-9).margin(1e-9));
       }

@@ -213,9 +213,9 @@ def test_pid_is_proportional_with_feedforward():
     pid = ls.MimoPid(kp=kp, ki=np.zeros(6), kd=np.zeros(6))
     e = np.array([0.1, -0.2, 0.3, 0.01, 0.02, -0.03])
     v = np.array([1.0, 0, 0, 0, 0, 0.5])
-    assert np.max(np.abs(pid.update(e, v, 0.05) - (kp * e + v))) < 1e-15
+    assert np.max(np.abs(pid.step(e, v, 0.05) - (kp * e + v))) < 1e-15
     with pytest.raises(ls.Error) as err:
-        pid.update(e, v, 0.0)
+        pid.step(e, v, 0.0)
     assert err.value.status == "invalid_time_step"
     with pytest.raises(ls.Error):
         ls.MimoPid(kp=kp, ki=kp, kd=kp, smoothing=0.0)

@@ -52,7 +52,7 @@ TEST_CASE("alloc: smoother, watchdog, latest-value hand-over, frames and pipelin
       const double sgn = (k / 500) % 2 ? -1.0 : 1.0;
       (void)smoother.step(sgn * target, 1e-3);
       (void)smoother.step(target, 0.0);  // error path too
-      (void)watchdog.update(static_cast<std::uint64_t>(k / 30 + 1), 0.01, true);
+      (void)watchdog.step(static_cast<std::uint64_t>(k / 30 + 1), 0.01, true);
       channel->write(cmd);
       TwistCommand got;
       (void)channel->read(got, stamp);

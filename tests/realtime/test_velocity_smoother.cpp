@@ -75,7 +75,7 @@ TEST_CASE("smoother: seeded random targets never exceed velocity, acceleration o
   for (int which = 0; which < 3; ++which) {
     const auto L = limitSet(which);
     VelocitySmoother<double> s;
-    REQUIRE(s.setLimits(L) == Status::ok);
+    REQUIRE(s.configure(L) == Status::ok);
     LimitChecker check{L, kDt};
     lieservo::sampling::Rng rng(1234u + static_cast<unsigned>(which));
     const long segments = lieservo::test::scaledCount(600, 60);
@@ -99,7 +99,7 @@ TEST_CASE("smoother: seeded random targets never exceed velocity, acceleration o
 TEST_CASE("smoother: step from rest is time-optimal in 1-D and never overshoots", "[realtime][smoother]") {
   const auto L = limitSet(0);
   VelocitySmoother<double> s;
-  REQUIRE(s.setLimits(L) == Status::ok);
+  REQUIRE(s.configure(L) == Status::ok);
   const double V = L.translation.velocity, A = L.translation.acceleration, J = L.translation.jerk;
   for (double frac : {0.001, 0.01, 0.1, 0.5, 1.0}) {
     s.reset();
@@ -132,7 +132,7 @@ TEST_CASE("smoother: vector step from rest goes straight, without overshoot", "[
   const auto L = limitSet(0);
   lieservo::sampling::Rng rng(99);
   VelocitySmoother<double> s;
-  REQUIRE(s.setLimits(L) == Status::ok);
+  REQUIRE(s.configure(L) == Status::ok);
   const long trials = lieservo::test::scaledCount(100, 10);
   for (long trial = 0; trial < trials; ++trial) {
     s.reset();
@@ -164,7 +164,7 @@ TEST_CASE("smoother: a huge target is clamped along its direction, not lost to a
   for (const Eigen::Vector3d& dir : {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(1, 1, 0), Eigen::Vector3d(-1, 2, -3)}) {
     for (const double scale : {1e200, 1e308 / 3}) {
       VelocitySmoother<double> s;
-      REQUIRE(s.setLimits(L) == Status::ok);
+      REQUIRE(s.configure(L) == Status::ok);
       Twist target = Twist::Zero();
       target.head<3>() = scale * dir;
       target.tail<3>() = scale * dir.reverse();
@@ -189,7 +189,7 @@ TEST_CASE("smoother: reversing targets brake first, stay inside the limits and s
   for (int which = 0; which < 3; ++which) {
     const auto L = limitSet(which);
     VelocitySmoother<double> s;
-    REQUIRE(s.setLimits(L) == Status::ok);
+    REQUIRE(s.configure(L) == Status::ok);
     LimitChecker check{L, kDt};
     Twist plus = Twist::Zero();
     plus[0] = L.translation.velocity;
@@ -214,7 +214,7 @@ TEST_CASE("smoother: settles within its bound from random moving states", "[real
   for (int which = 0; which < 3; ++which) {
     const auto L = limitSet(which);
     VelocitySmoother<double> s;
-    REQUIRE(s.setLimits(L) == Status::ok);
+    REQUIRE(s.configure(L) == Status::ok);
     lieservo::sampling::Rng rng(2024u + static_cast<unsigned>(which));
     LimitChecker check{L, kDt};
     const long trials = lieservo::test::scaledCount(300, 30);
@@ -250,7 +250,7 @@ TEST_CASE("smoother: settles within its bound from random moving states", "[real
 TEST_CASE("smoother: variable dt keeps acceleration and jerk exact, velocity within 1%", "[realtime][smoother]") {
   const auto L = limitSet(0);
   VelocitySmoother<double> s;
-  REQUIRE(s.setLimits(L) == Status::ok);
+  REQUIRE(s.configure(L) == Status::ok);
   lieservo::sampling::Rng rng(5);
   Twist v_prev = Twist::Zero(), a_prev = Twist::Zero();
   double worst = 0, worst_v = 0;
@@ -297,26 +297,26 @@ TEST_CASE("smoother: bad input returns a Status and leaves the state unchanged",
   SmootherLimits<double> l{};
   const SmootherLimits<double> before = s.limits();
   l.translation.jerk = 0;
-  CHECK(s.setLimits(l) == Status::invalid_argument);
+  CHECK(s.configure(l) == Status::invalid_argument);
   l = SmootherLimits<double>{};
   l.rotation.velocity = nan;
-  CHECK(s.setLimits(l) == Status::invalid_argument);
+  CHECK(s.configure(l) == Status::invalid_argument);
   l = SmootherLimits<double>{};
   l.rotation.acceleration = -1;
-  CHECK(s.setLimits(l) == Status::invalid_argument);
+  CHECK(s.configure(l) == Status::invalid_argument);
   // Beyond [1e-9, 1e9], or an acceleration ramp A/J over 1000 s (limits and periods near
   // 1.8e308 would turn the output into NaN).
   for (const double x : {1e10, std::numeric_limits<double>::max(), 1e-10}) {
     l = SmootherLimits<double>{};
     l.translation.velocity = x;
-    CHECK(s.setLimits(l) == Status::invalid_argument);
+    CHECK(s.configure(l) == Status::invalid_argument);
   }
   l = SmootherLimits<double>{};
   l.rotation.acceleration = 1e4, l.rotation.jerk = 1;
-  CHECK(s.setLimits(l) == Status::invalid_argument);
+  CHECK(s.configure(l) == Status::invalid_argument);
   l.rotation.jerk = 10;  // a ramp of 1000 s: the bound itself
-  CHECK(s.setLimits(l) == Status::ok);
-  CHECK(s.setLimits(before) == Status::ok);
+  CHECK(s.configure(l) == Status::ok);
+  CHECK(s.configure(before) == Status::ok);
   CHECK(s.limits().translation.jerk == before.translation.jerk);
 
   Twist too_fast = Twist::Zero();

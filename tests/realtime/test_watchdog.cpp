@@ -18,9 +18,9 @@ struct Feed {
   CommandWatchdog& w;
   std::uint64_t seq = 0;
   // A new command (fresh sequence) with the given age and contact flag.
-  Status fresh(double age, bool contact) { return w.update(++seq, age, contact); }
+  Status fresh(double age, bool contact) { return w.step(++seq, age, contact); }
   // The same command seen again (no new sequence) at a later age.
-  Status again(double age, bool contact) { return w.update(seq, age, contact); }
+  Status again(double age, bool contact) { return w.step(seq, age, contact); }
 };
 
 }  // namespace
@@ -33,7 +33,7 @@ TEST_CASE("watchdog: arms after N fresh commands, trips on timeout, re-arms by i
   REQUIRE(w.configure(o) == Status::ok);
   Feed f{w};
   CHECK(w.state() == WatchdogState::waiting);
-  CHECK(w.update(0, 0.0, false) == Status::ok);  // nothing written yet
+  CHECK(w.step(0, 0.0, false) == Status::ok);  // nothing written yet
   CHECK_FALSE(w.passCommands());
   f.fresh(0.01, false);
   f.again(0.02, false);  // repeats do not count
@@ -127,10 +127,10 @@ TEST_CASE("watchdog: bad input and options leave the state unchanged", "[realtim
   WatchdogOptions o;
   o.rearm_fresh_commands = 1;
   REQUIRE(w.configure(o) == Status::ok);
-  CHECK(w.update(1, std::numeric_limits<double>::quiet_NaN(), true) == Status::non_finite_input);
-  CHECK(w.update(1, -0.5, true) == Status::invalid_argument);
+  CHECK(w.step(1, std::numeric_limits<double>::quiet_NaN(), true) == Status::non_finite_input);
+  CHECK(w.step(1, -0.5, true) == Status::invalid_argument);
   CHECK(w.state() == WatchdogState::waiting);
-  CHECK(w.update(1, 0.0, true) == Status::ok);  // sequence 1 still counts as new
+  CHECK(w.step(1, 0.0, true) == Status::ok);  // sequence 1 still counts as new
   CHECK(w.passCommands());
 
   WatchdogOptions bad = o;
@@ -164,7 +164,7 @@ TEST_CASE("watchdog: a trip ramps the smoothed command to zero within the docume
       ++seq;
       last_write = t;
     }
-    REQUIRE(w.update(seq, t - last_write, true) == Status::ok);
+    REQUIRE(w.step(seq, t - last_write, true) == Status::ok);
     REQUIRE(s.step(w.passCommands() ? cmd : rt_test::Twist::Zero(), dt) == Status::ok);
     check.push(s.velocity());
   }
@@ -173,7 +173,7 @@ TEST_CASE("watchdog: a trip ramps the smoothed command to zero within the docume
   const double bound = s.stoppingTimeBound(dt);
   double trip_time = -1, rest_time = -1;
   for (; k < 3000; ++k, t += dt) {
-    REQUIRE(w.update(seq, t - last_write, true) == Status::ok);
+    REQUIRE(w.step(seq, t - last_write, true) == Status::ok);
     if (!w.passCommands() && trip_time < 0) trip_time = t;
     REQUIRE(s.step(w.passCommands() ? cmd : rt_test::Twist::Zero(), dt) == Status::ok);
     check.push(s.velocity());

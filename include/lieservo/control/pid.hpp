@@ -21,7 +21,7 @@
 // Clipping is per component, applied to the accumulated integral (anti-windup) and to the
 // total output u (feedforward included).  ±infinity means "no clipping".
 //
-// Real-time contract: update() is noexcept, never allocates, and leaves the state and its
+// Real-time contract: step() is noexcept, never allocates, and leaves the state and its
 // output untouched unless it returns Status::ok.
 #pragma once
 
@@ -84,7 +84,7 @@ class MimoPid {
     }
   };
 
-  /// The four contributions of the last successful update (before output clipping).
+  /// The four contributions of the last successful step (before output clipping).
   struct Terms {
     Vector feedforward = Vector::Zero();
     Vector proportional = Vector::Zero();
@@ -98,7 +98,7 @@ class MimoPid {
   MimoPid() = default;
 
   /// Configures with `options`; if they are invalid the controller refuses to run
-  /// (update() returns configurationStatus(), i.e. Status::invalid_argument).
+  /// (step() returns configurationStatus(), i.e. Status::invalid_argument).
   explicit MimoPid(const Options& options) { config_status_ = configure(options); }
 
   /// Checks options: finite gains; clip bounds not NaN with min ≤ max, each range holding a
@@ -123,7 +123,7 @@ class MimoPid {
     const Status s = validate(options);
     if (s != Status::ok) return s;
     options_ = options;
-    // The paper's gains are diagonal: then update() multiplies per channel (N instead of N²).
+    // The paper's gains are diagonal: then step() multiplies per channel (N instead of N²).
     diagonal_gains_ = isDiagonal(options_.kp) && isDiagonal(options_.ki) && isDiagonal(options_.kd);
     kp_diag_ = options_.kp.diagonal();
     ki_diag_ = options_.ki.diagonal();
@@ -139,7 +139,7 @@ class MimoPid {
   /// Status::invalid_time_step if dt ≤ 0 or non-finite; Status::non_finite_input if e or v
   /// has a NaN/inf; Status::numerical_failure if the result overflows.  On failure nothing
   /// changes, `u` included.
-  LIESERVO_FLATTEN Status update(const Vector& error, const Vector& feedforward, Scalar dt, Vector& u) noexcept {
+  LIESERVO_FLATTEN Status step(const Vector& error, const Vector& feedforward, Scalar dt, Vector& u) noexcept {
     if (config_status_ != Status::ok) return config_status_;
     if (!(dt > Scalar(0)) || !std::isfinite(dt)) return Status::invalid_time_step;
     if (!detail::allFinite(error, feedforward)) return Status::non_finite_input;
@@ -235,7 +235,7 @@ class MimoPid {
   Scalar alpha_ = Scalar(0);     // alpha(alpha_dt_)
 
   // A clip range [lo, hi] must contain a finite number: [+inf, +inf] would clip every output
-  // to infinity and fail every update.
+  // to infinity and fail every step.
   static bool clipRangeValid(Scalar lo, Scalar hi) noexcept {
     return lo <= hi && lo < infinity() && hi > -infinity();  // false for NaN too
   }
@@ -294,14 +294,14 @@ class SisoPid {
     return Status::ok;
   }
 
-  /// See MimoPid::update.  On failure nothing changes, `u` included.
-  Status update(Scalar error, Scalar feedforward, Scalar dt, Scalar& u) noexcept {
+  /// See MimoPid::step.  On failure nothing changes, `u` included.
+  Status step(Scalar error, Scalar feedforward, Scalar dt, Scalar& u) noexcept {
     if (config_status_ != Status::ok) return config_status_;
     typename Impl::Vector e, v;
     typename Impl::Vector out = Impl::Vector::Zero();
     e[0] = error;
     v[0] = feedforward;
-    const Status s = pid_.update(e, v, dt, out);
+    const Status s = pid_.step(e, v, dt, out);
     if (s == Status::ok) u = out[0];
     return s;
   }

@@ -160,7 +160,7 @@ class PushingController {
     if (r >= options_.alignment_cutoff) {
       const Scalar e_theta = wrapAngle(options_.reference_bearing - theta);
       Scalar uy = Scalar(0);
-      s = alignment_.update(e_theta, Scalar(0), dt, uy);
+      s = alignment_.step(e_theta, Scalar(0), dt, uy);
       if (s != Status::ok) {
         servo_ = servo_backup;
         return s;

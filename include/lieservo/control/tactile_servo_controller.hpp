@@ -113,7 +113,7 @@ class TactileServoController {
     // The PID checks e and v for NaN/inf itself; the input was finite, so a non-finite e or v
     // is our numerical failure (the log or Ad overflowed), not the caller's bad input.
     Tangent out;
-    const Status s = pid_.update(e, v, dt, out);
+    const Status s = pid_.step(e, v, dt, out);
     if (s == Status::non_finite_input) return Status::numerical_failure;
     if (s != Status::ok) return s;
     error_pose_ = E;

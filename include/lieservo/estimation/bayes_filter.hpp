@@ -80,10 +80,11 @@ class DiscriminativeBayesFilter {
   };
 
   DiscriminativeBayesFilter() noexcept { configure(Options()); }
-  /// Invalid options (see validate) leave the filter unusable: every call returns
-  /// invalid_argument until configure succeeds.
+  /// Invalid options (see validate) leave the filter unusable: every call returns validate()'s
+  /// Status (configurationStatus()) until configure succeeds.
   explicit DiscriminativeBayesFilter(const Options& options) noexcept {
-    if (configure(options) != Status::ok) options_status_ = Status::invalid_argument;
+    const Status s = configure(options);
+    if (s != Status::ok) options_status_ = s;
   }
 
   /// ok, or invalid_argument (fusion options out of range, gate_probability ∉ (0,1)),
@@ -108,7 +109,7 @@ class DiscriminativeBayesFilter {
     return Status::ok;
   }
   const Options& options() const noexcept { return options_; }
-  /// ok, or invalid_argument when the constructor was given invalid options.
+  /// ok, or validate()'s Status for the invalid options the constructor was given.
   Status configurationStatus() const noexcept { return options_status_; }
 
   /// One step of Algorithm 2 (alg:se3_bayes_filter). The first step after construction or reset() is the

@@ -54,7 +54,7 @@ class CartesianVelocityPipeline {
     if (!(o.twist_to_metres > 0)) return Status::invalid_argument;
     if (!(o.control_period_s >= 1e-6 && o.control_period_s <= 1)) return Status::invalid_time_step;  // the smoother's range
     options_ = o;
-    (void)smoother_.setLimits(o.limits);
+    (void)smoother_.configure(o.limits);
     smoother_.reset();
     (void)watchdog_.configure(o.watchdog);
     return Status::ok;
@@ -81,7 +81,7 @@ class CartesianVelocityPipeline {
     // further ahead than the timeout does not pass.
     const double age_s =
         stamp.sequence == 0 ? 0.0 : 1e-9 * std::abs(static_cast<double>(now_ns) - static_cast<double>(stamp.time_ns));
-    const Status ws = watchdog_.update(stamp.sequence, age_s, cmd.in_contact);
+    const Status ws = watchdog_.step(stamp.sequence, age_s, cmd.in_contact);
     if (ws != Status::ok) return ws;
 
     Vector6 target = Vector6::Zero();

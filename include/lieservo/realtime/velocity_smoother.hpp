@@ -249,14 +249,22 @@ class VelocitySmoother {
 
   VelocitySmoother() noexcept { reset(); }
 
-  /// Set the limits; invalid (non-positive/non-finite) → Status::invalid_argument, unchanged.
-  /// Lowering limits while moving is allowed, but the bounds are then only guaranteed once
-  /// the state has come back inside the new limits (reset() first to be safe).
-  Status setLimits(const Limits& limits) noexcept {
-    if (!limits.valid()) return Status::invalid_argument;
+  using Options = Limits;  ///< the smoother's options are its limits
+
+  /// ok when `limits` is valid (SmootherLimits::valid), else invalid_argument.
+  static Status validate(const Options& limits) noexcept {
+    return limits.valid() ? Status::ok : Status::invalid_argument;
+  }
+  /// Set the limits; invalid → validate()'s Status, the smoother unchanged. Lowering limits
+  /// while moving is allowed, but the bounds are then only guaranteed once the state has come
+  /// back inside the new limits (reset() first to be safe).
+  Status configure(const Options& limits) noexcept {
+    const Status s = validate(limits);
+    if (s != Status::ok) return s;
     limits_ = limits;
     return Status::ok;
   }
+  const Options& options() const noexcept { return limits_; }
   const Limits& limits() const noexcept { return limits_; }
 
   /// Rest: zero velocity and acceleration.

@@ -23,7 +23,7 @@
 //       - tripped_external     after trip() (stop request, fault); only rearm() clears it.
 //   Contact is not required before the first contact (approach moves are allowed).
 //
-// Real-time contract: update() is noexcept, allocation-free, returns Status and leaves
+// Real-time contract: step() is noexcept, allocation-free, returns Status and leaves
 // the state unchanged on bad input.
 #pragma once
 
@@ -81,7 +81,7 @@ class CommandWatchdog {
   /// `age_s`: its age in seconds (>= 0, ignored when sequence == 0); `in_contact`: the
   /// contact flag it carried. Non-finite age → non_finite_input; negative age →
   /// invalid_argument; state unchanged in both cases.
-  Status update(std::uint64_t sequence, double age_s, bool in_contact) noexcept {
+  Status step(std::uint64_t sequence, double age_s, bool in_contact) noexcept {
     if (sequence != 0) {
       if (!std::isfinite(age_s)) return Status::non_finite_input;
       if (age_s < 0) return Status::invalid_argument;
