@@ -481,8 +481,8 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
   else if (repairSpd(Sigma) != Status::ok)
     return Status::numerical_failure;
 
-  // Status::ok promises a result that validates, by the same tests as every input (the
-  // fuzz target fuzz_fusion found a repaired Σ* that passed the checks above and not those).
+  // Status::ok promises a result that validates, by the same tests as every input: a repaired
+  // Σ* can pass the checks above and still fail those (SO(3), first-order series Jacobian).
   ConcentratedGaussian<G> fused;
   fused.mean = X;
   fused.covariance = Sigma;
