@@ -987,6 +987,43 @@ TEST_CASE("fusion: the information form's block inverse", "[estimation][linalg]"
   H(4, 1) = H(1, 4) = 2.0;  // indefinite
   CHECK_FALSE(detail::spdInverse(H, Hinv));
   CHECK(Hinv == M6::Constant(-1.0));
+
+  // Indefinite with a positive determinant: 1 + a(11ᵀ − I) with a = 2 has eigenvalues 5, −1, −1
+  // (det 5, trace of the inverse −1.8, inside the limit). Refused at size 3 (the cofactor path)
+  // and as either 3×3 block of a 6×6 (the Schur path: A itself, or S = C − BᵀA⁻¹B with B = 0).
+  using M3 = Eigen::Matrix<double, 3, 3>;
+  const M3 P = M3::Constant(2.0) - M3::Identity();
+  REQUIRE(P.determinant() > 0.0);
+  M3 Pinv = M3::Constant(-1.0);
+  CHECK_FALSE(detail::spdInverse(P, Pinv));
+  CHECK(Pinv == M3::Constant(-1.0));
+  for (const int corner : {0, 3}) {
+    M6 Hp = M6::Identity();
+    Hp.block<3, 3>(corner, corner) = P;
+    REQUIRE(Hp.determinant() > 0.0);
+    CHECK_FALSE(detail::spdInverse(Hp, Hinv));
+    CHECK(Hinv == M6::Constant(-1.0));
+  }
+  Eigen::Matrix4d Q4 = Eigen::Matrix4d::Identity();
+  Q4.topLeftCorner<3, 3>() = P;
+  Eigen::Matrix4d Q4inv = Eigen::Matrix4d::Constant(-1.0);
+  REQUIRE(Q4.determinant() > 0.0);
+  CHECK_FALSE(detail::spdInverse(Q4, Q4inv));
+  CHECK(Q4inv == Eigen::Matrix4d::Constant(-1.0));
+
+  // Singular to working precision: 11ᵀ + δI (the trace of the exact inverse is ≈ (n − 1)/δ, far
+  // past the limit). The cofactor "inverse" of such a matrix can come out with any trace, 0
+  // included (fuzz_fusion found an SO(3) fusion certified that way); each is refused.
+  for (const double delta : {0.0, 1e-16, 1e-13, 1e-10, 1e-7}) {
+    const M3 S3 = M3::Ones() + delta * M3::Identity();
+    M3 S3inv = M3::Constant(-1.0);
+    INFO("delta " << delta);
+    CHECK_FALSE(detail::spdInverse(S3, S3inv));
+    CHECK(S3inv == M3::Constant(-1.0));
+    const M6 S6 = M6::Ones() + delta * M6::Identity();
+    CHECK_FALSE(detail::spdInverse(S6, Hinv));
+    CHECK(Hinv == M6::Constant(-1.0));
+  }
 }
 
 TEST_CASE("fusion: an explicit inverse certified SPD by its trace is SPD", "[estimation][linalg]") {

@@ -548,9 +548,14 @@ TEST_CASE("mujoco: tipping height and friction by statics and by the engine agre
 // ---- One contact truth: the observed shear saturates where the engine's gel slips -----------
 
 namespace {
+// The gel tests run the engine at the step the tasks run it (20 Hz control).
+const double kTaskStep = lieservo::sim::taskTimestep(0.05);
+long stepsIn(double seconds) { return std::lround(seconds / kTaskStep); }
+
 // A fixed plate (skin friction μ_c) and a tip above it, z_s down, pressed `depth` mm into it.
 SceneSpec tipOnPlate(const ContactParams& cp, double depth) {
   SceneSpec s;
+  s.timestep = kTaskStep;
   FixtureSpec plate;
   plate.name = "plate", plate.shape = "plate", plate.size = 200, plate.size2 = 10, plate.friction = cp.skin_friction;
   s.fixtures = {plate};
@@ -592,8 +597,8 @@ TEST_CASE("mujoco: the contact model's shear saturates where the engine's gel co
       u << 5, 0, 0, 0, 0, 0;  // along x_s, mm/s
       REQUIRE(w.setSensorTwist(0, u) == Status::ok);
       ContactState c;
-      for (int k = 0; k < 800; ++k) {  // 8 s: 40 mm
-        REQUIRE(w.step(0.01) == Status::ok);
+      for (long k = 0; k < stepsIn(8.0); ++k) {  // 8 s: 40 mm
+        REQUIRE(w.step(kTaskStep) == Status::ok);
         c = observe();
       }
       const double engine = std::hypot(w.gelDeflection(0).x(), w.gelDeflection(0).y());
@@ -630,7 +635,7 @@ TEST_CASE("mujoco: a gel stuck to a face holds its shear, on a fixed plate and o
     Vec6 u;
     u << 1, 0, 0, 0, 0, 0;
     REQUIRE(w.setSensorTwist(0, u) == Status::ok);
-    for (int k = 0; k < 240; ++k) REQUIRE(w.step(0.01) == Status::ok);
+    for (long k = 0; k < stepsIn(2.4); ++k) REQUIRE(w.step(kTaskStep) == Status::ok);
     const double gained = x0 - w.gelDeflection(0).x();  // the tip lags the arm: δ_x < 0
     const double slip = cp.skin_friction * w.tipNormalForce(0) / (cp.gel_tangential_ratio * cp.gel_stiffness);
     INFO("gel deflection gained " << gained << " mm of 2.4 mm; slip at " << slip << " mm");
@@ -653,18 +658,19 @@ TEST_CASE("mujoco: a gel stuck to a face holds its shear, on a fixed plate and o
     R.col(0) = -Vec3::UnitZ(), R.col(1) = Vec3::UnitY(), R.col(2) = Vec3::UnitX();  // the pushes' mount
     tip.initial_pose = makePose(R, Vec3(-halfExtentX(o) - cp.tip_radius + 2.0, 0, 45));
     s.sensors = {tip};
+    s.timestep = kTaskStep;
     World w(s);
     REQUIRE(w.step(0.5) == Status::ok);
     Vec6 u;
     u << -0.7, 0, 10, 0, 0, 0;  // up (−x_s) and forward (z_s), mm/s
     REQUIRE(w.setSensorTwist(0, u) == Status::ok);
-    for (int k = 0; k < 100; ++k) REQUIRE(w.step(0.01) == Status::ok);
+    for (long k = 0; k < stepsIn(1.0); ++k) REQUIRE(w.step(kTaskStep) == Status::ok);
     INFO("after 1 s: gel deflection " << w.gelDeflection(0).x() << " mm of 0.7 mm");
     CHECK(w.gelDeflection(0).x() >= 0.8 * 0.7);  // the skin holds the face: the tip lags below
     double least = 1e9;
-    for (int k = 100; k < 300; ++k) {
-      REQUIRE(w.step(0.01) == Status::ok);
-      if (k < 150) continue;
+    for (long k = stepsIn(1.0); k < stepsIn(3.0); ++k) {
+      REQUIRE(w.step(kTaskStep) == Status::ok);
+      if (k < stepsIn(1.5)) continue;
       const double slip = cp.skin_friction * w.tipNormalForce(0) / (cp.gel_tangential_ratio * cp.gel_stiffness);
       least = std::min(least, w.gelDeflection(0).x() / slip);
     }

@@ -219,7 +219,9 @@ std::string sceneMjcf(const SceneSpec& spec) {
   // relative tolerance of 1e-6: on these scenes (24 DoF, 20–30 friction cones) it costs half of
   // the Newton solver's time per step (whose Hessian updates dominate), with the same pass
   // rates over 30 seeded pushes per case (docs/simulation.md). Then MuJoCo's noslip pass
-  // (kNoslipIterations) removes the soft model's creep in the friction directions.
+  // (kNoslipIterations) removes the soft model's creep in the friction directions. With the
+  // noslip pass holding the stick, impratio stays at MuJoCo's default 1 (SceneSpec): a harder
+  // friction impedance (10) ill-conditions the solve (24 CG iterations a step against 13).
   x << "<mujoco model=\"lieservo_scene\">\n"
     << "  <option timestep=\"" << num(spec.timestep) << "\" gravity=\"0 0 " << num(-kGravity)
     << "\" cone=\"elliptic\" impratio=\"" << num(spec.impratio)

@@ -51,13 +51,6 @@ inline Status senseContact(ObservationSource& gdn, const ContactState& state, Fi
   return Status::ok;
 }
 
-/// MuJoCo's step (s); the arms move once per step, 20 steps per 20 Hz control period.
-inline constexpr double kTimestep = 0.0025;
-
-/// MuJoCo steps per control period dt: the whole number nearest dt / kTimestep (at least 1),
-/// so that a period is a whole number of steps of length dt / stepsPerPeriod(dt).
-inline int stepsPerPeriod(double dt) { return std::max(1, int(std::lround(dt / kTimestep))); }
-
 /// A TacTip sensor of the scene at X_ws with the gel of `contact` (one contact truth: the
 /// engine's gel and the ContactModel's slip law share k_gel, ρ_t and μ_c).
 inline mujoco::SensorSpec sensorSpec(const std::string& name, const ContactParams& contact, const SE3d& X_ws) {

@@ -35,7 +35,7 @@ void followPath(mujoco::World& world, detail::EngineArm& sa, lieservo::TactileSe
                 const TaskOptions& opt, double ref_depth, double timeout, Done done, FollowingPath& out, PathLog& log,
                 CsvWriter& csv, int path_id, double& t_global, std::vector<std::string>& failures) {
   const double dt = 1.0 / opt.control_rate;
-  const int substeps = detail::stepsPerPeriod(dt);
+  const int substeps = stepsPerPeriod(dt);
   const double h = dt / substeps;
   sa.touch(world);
   const Vec3 p_start = sa.state.point_w;
@@ -115,7 +115,7 @@ std::vector<Vec2> proj(const std::vector<Vec3>& v, int a, int b) {
 // A scene of one fixture and one sensor starting at X_ws0.
 mujoco::SceneSpec followingScene(const mujoco::FixtureSpec& fixture, const SE3d& X_ws0, const TaskOptions& opt) {
   mujoco::SceneSpec scene;
-  scene.timestep = 1.0 / opt.control_rate / detail::stepsPerPeriod(1.0 / opt.control_rate);
+  scene.timestep = taskTimestep(1.0 / opt.control_rate);
   scene.fixtures = {fixture};
   scene.fixtures[0].friction = opt.contact.skin_friction;
   scene.sensors = {detail::sensorSpec("sensor", opt.contact, X_ws0)};

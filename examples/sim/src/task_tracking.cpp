@@ -63,7 +63,7 @@ TrackingResult runObjectTracking(const TaskOptions& opt) {
   using detail::join;
   TrackingResult res;
   const double dt = 1.0 / opt.control_rate;
-  const int substeps = detail::stepsPerPeriod(dt);
+  const int substeps = stepsPerPeriod(dt);
   const double h = dt / substeps;
   const double ref_depth = lieservo::paper::kObjectTracking.reference_pose[2];
   const double R = opt.contact.tip_radius;

@@ -217,13 +217,30 @@ Scalar informationTraceLimit() noexcept {
   return Scalar(1000);
 }
 
+/// Sylvester's criterion below the full determinant: whether the leading principal minors of
+/// orders 1 … n−1 of M are positive (the caller has det M > 0). A positive determinant alone
+/// admits an even number of negative eigenvalues (1 + a(11ᵀ − I) with a = 2 has det 5 and
+/// eigenvalues 5, −1, −1); with every leading minor positive, M is positive definite.
+template <class Mat>
+bool leadingMinorsPositive(const Mat& M) noexcept {
+  using Scalar = typename Mat::Scalar;
+  constexpr int n = Mat::RowsAtCompileTime;
+  static_assert(n >= 1 && n <= 4, "leadingMinorsPositive: sizes 1-4");
+  if (!(M(0, 0) > Scalar(0))) return false;
+  if constexpr (n >= 3)
+    if (!(M.template topLeftCorner<2, 2>().determinant() > Scalar(0))) return false;
+  if constexpr (n >= 4)
+    if (!(M.template topLeftCorner<3, 3>().determinant() > Scalar(0))) return false;
+  return true;
+}
+
 /// The inverse of an equilibrated SPD 6×6 matrix He (unit diagonal) by 3×3 blocks (Schur
 /// complement):
 ///     He = [[A, B], [Bᵀ, C]],  K = A⁻¹B,  S = C − BᵀK,
 ///     He⁻¹ = [[A⁻¹ + K S⁻¹ Kᵀ, −K S⁻¹], [−S⁻¹ Kᵀ, S⁻¹]].
 /// Two divisions in the whole chain, where a Cholesky factorisation or a Householder reduction
-/// waits on six square roots and six divisions one after another. false when a block
-/// determinant is not positive.
+/// waits on six square roots and six divisions one after another. He is SPD exactly when A and
+/// S are; false unless both pass Sylvester's criterion (leading minors and determinant > 0).
 template <class Scalar>
 bool spdInverseBlocks(const Eigen::Matrix<Scalar, 6, 6>& He, Eigen::Matrix<Scalar, 6, 6>& E) noexcept {
   using M3 = Eigen::Matrix<Scalar, 3, 3>;
@@ -231,13 +248,13 @@ bool spdInverseBlocks(const Eigen::Matrix<Scalar, 6, 6>& He, Eigen::Matrix<Scala
   const M3 B = He.template topRightCorner<3, 3>();
   M3 adjA;
   const Scalar detA = adjugate3(A, adjA);
-  if (!(detA > Scalar(0))) return false;
+  if (!(detA > Scalar(0)) || !leadingMinorsPositive(A)) return false;
   const M3 Ai = adjA * (Scalar(1) / detA);
   const M3 K = Ai * B;
   const M3 S = He.template bottomRightCorner<3, 3>() - B.transpose() * K;
   M3 adjS;
   const Scalar detS = adjugate3(S, adjS);
-  if (!(detS > Scalar(0))) return false;
+  if (!(detS > Scalar(0)) || !leadingMinorsPositive(S)) return false;
   const M3 Si = adjS * (Scalar(1) / detS);
   const M3 KSi = K * Si;
   E.template topLeftCorner<3, 3>() = Ai + KSi * K.transpose();
@@ -250,8 +267,10 @@ bool spdInverseBlocks(const Eigen::Matrix<Scalar, 6, 6>& He, Eigen::Matrix<Scala
 /// H⁻¹ of an SPD information matrix H (DoF 1–4 or 6), after the diagonal equilibration
 /// He = D H D, D = diag(H_ii)^−½, H⁻¹ = D He⁻¹ D: 6×6 by spdInverseBlocks, smaller sizes by
 /// cofactors (Eigen's fixed-size inverse, which also returns the determinant). Returns false
-/// (Hinv unwritten) unless H's diagonal is positive and finite, the determinants are positive
-/// and trace(He⁻¹) ≤ informationTraceLimit(). `trace` (optional) receives trace(He⁻¹).
+/// (Hinv unwritten) unless H's diagonal is positive and finite, He passes Sylvester's criterion
+/// (every leading principal minor positive: He is SPD) and n ≤ trace(He⁻¹) ≤
+/// informationTraceLimit() (to 1 %: below n the inverse is lost to rounding). `trace`
+/// (optional) receives trace(He⁻¹).
 template <class Mat>
 bool spdInverse(const Mat& H, Mat& Hinv, typename Mat::Scalar* trace = nullptr) noexcept {
   using Scalar = typename Mat::Scalar;
@@ -270,10 +289,13 @@ bool spdInverse(const Mat& H, Mat& Hinv, typename Mat::Scalar* trace = nullptr) 
     Scalar det(0);
     bool invertible = false;
     He.computeInverseAndDetWithCheck(E, det, invertible, Scalar(0));
-    if (!invertible || !(det > Scalar(0))) return false;
+    if (!invertible || !(det > Scalar(0)) || !leadingMinorsPositive(He)) return false;
   }
+  // trace(He⁻¹) ≥ n for an SPD He with a unit diagonal (its eigenvalues average 1, and the
+  // mean of their inverses is at least the inverse of their mean): a smaller computed trace is
+  // an inverse lost to rounding.
   const Scalar tr = E.trace();
-  if (!(tr <= informationTraceLimit<Scalar>())) return false;  // also catches NaN
+  if (!(tr >= Scalar(0.99) * Scalar(n) && tr <= informationTraceLimit<Scalar>())) return false;  // also NaN
   Hinv = d.asDiagonal() * E * d.asDiagonal();
   if (trace) *trace = tr;
   return true;
@@ -482,7 +504,9 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
     return Status::numerical_failure;
 
   // Status::ok promises a result that validates, by the same tests as every input: a repaired
-  // Σ* can pass the checks above and still fail those (SO(3), first-order series Jacobian).
+  // Σ* can pass the checks above and still fail those (SO(3), first-order series Jacobian), and
+  // the certificate rests on the computed trace, which an H singular to working precision can
+  // fake (fuzz_fusion: an all-ones He whose cofactor "inverse" has trace 0).
   ConcentratedGaussian<G> fused;
   fused.mean = X;
   fused.covariance = Sigma;

@@ -18,8 +18,9 @@
 // light body on three slide joints with stiffness k_gel along z_s and ρ_t k_gel across
 // (SensorSpec), so a contact depth d (the surface inside the nominal tip sphere) presses with
 // ≈ k_gel d, whatever the object's mass, and a sticking contact shears the gel sideways. Tip
-// contacts are stiff, with elliptic friction cones, impratio 10 and condim 4 (torsional
-// friction, the twist γ).
+// contacts are stiff, with elliptic friction cones and condim 4 (torsional friction, the
+// twist γ); MuJoCo's noslip pass, not a hard friction impedance (impratio stays at MuJoCo's
+// default 1), holds a stuck gel.
 //
 // Objects touch the support at their base points only (basePoints: two rings of equally
 // loaded points whose mean radius is the uniform-pressure one), each a spring of a Winkler
@@ -124,7 +125,7 @@ struct SceneSpec {
   std::vector<FixtureSpec> fixtures;
   std::vector<SensorSpec> sensors;
   double timestep = 0.002;  ///< s, MuJoCo's integration step
-  double impratio = 10;     ///< elliptic-cone friction-to-normal impedance ratio
+  double impratio = 1;      ///< elliptic-cone friction-to-normal impedance ratio (MuJoCo's default)
 
   /// Throws SceneError naming the parameter: non-positive size, height, mass or timestep,
   /// negative friction, an unknown shape, a non-finite or non-orthonormal pose, duplicate

@@ -7,14 +7,16 @@
 //   → sensor body twist → the arm (X_ws ← X_ws exp(u Δt) per MuJoCo step) → the engine steps.
 //
 // All four run on MuJoCo (mujoco_world.hpp): each sensor is a MujocoSensorArm (sensor_arm.hpp),
-// its contact state comes from the engine's tip geometry. The world steps at 2.5 ms, 20 steps
-// per 20 Hz control period.
+// its contact state comes from the engine's tip geometry. The world steps at 2.5 ms
+// (kTimestep), 20 steps per 20 Hz control period.
 //
 // Every task takes TaskOptions (rate, seed, output folder, duration scale) and returns a result
 // with the metrics, the success flag and a list of reasons when it failed.  With a non-empty
 // TaskOptions::out_dir the task writes SVG plots and CSV logs there.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -28,6 +30,17 @@
 #include "sensor_arm.hpp"
 
 namespace lieservo::sim {
+
+/// The tasks' MuJoCo step (s), nominal; the arms move once per step. A control period dt is a
+/// whole number of steps (stepsPerPeriod), so the step the tasks run is taskTimestep(dt): 2.5 ms
+/// at 20 Hz. The engine's gel tests (tests/sim) run at that step.
+inline constexpr double kTimestep = 0.0025;
+
+/// MuJoCo steps per control period dt: the whole number nearest dt / kTimestep (at least 1).
+inline int stepsPerPeriod(double dt) { return std::max(1, int(std::lround(dt / kTimestep))); }
+
+/// The step the tasks run at control period dt: dt / stepsPerPeriod(dt).
+inline double taskTimestep(double dt) { return dt / stepsPerPeriod(dt); }
 
 /// The ranges (uniform draws, per pushing trial) of the physical parameters that are assumed
 /// rather than measured (docs/simulation.md, "What is assumed").
@@ -221,7 +234,8 @@ ToppleRow toppleAnalysis(const ObjectSpec& object, double support_friction = 0.3
 /// toppleAnalysis of each object (at the defaults), on all cores.
 std::vector<ToppleRow> toppleTable(const std::vector<ObjectSpec>& objects);
 /// One engine trial: does a force ramped slowly to 2 μ_s m g at height h (mm) on the −x face
-/// tip the object (tilt > 10°) before it slides 20 mm?
+/// tip the object (tilt > 3°) before its base slides 1 mm? The first motion decides, as in
+/// statics.
 bool tipsBeforeSliding(const ObjectSpec& object, double support_friction, double push_height);
 /// The paper-style 2-D plot of pushing cases (one panel each: the object at the start and the
 /// end of the first trial, both sensors' paths, the target), as the runners write it.
