@@ -505,8 +505,8 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
 
   // Status::ok promises a result that validates, by the same tests as every input: a repaired
   // Σ* can pass the checks above and still fail those (SO(3), first-order series Jacobian), and
-  // the certificate rests on the computed trace, which an H singular to working precision can
-  // fake (fuzz_fusion: an all-ones He whose cofactor "inverse" has trace 0).
+  // the certificate rests on the computed trace, which rounding can make look well conditioned
+  // when H is singular to working precision.
   ConcentratedGaussian<G> fused;
   fused.mean = X;
   fused.covariance = Sigma;

@@ -52,7 +52,7 @@ class CartesianVelocityPipeline {
     if (!std::isfinite(o.twist_to_metres) || !std::isfinite(o.control_period_s))
       return Status::non_finite_input;
     if (!(o.twist_to_metres > 0)) return Status::invalid_argument;
-    if (!(o.control_period_s >= 1e-6 && o.control_period_s <= 1)) return Status::invalid_time_step;  // the smoother's range
+    if (!VelocitySmoother<double>::validStep(o.control_period_s)) return Status::invalid_time_step;
     options_ = o;
     (void)smoother_.configure(o.limits);
     smoother_.reset();

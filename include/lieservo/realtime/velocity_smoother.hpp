@@ -287,11 +287,14 @@ class VelocitySmoother {
     return Status::ok;
   }
 
-  /// One step of length dt (s) towards `target`. dt outside [1e-6, 1] s (a robot's command
-  /// period is about 1e-3 s), or not a number → invalid_time_step; non-finite target →
-  /// non_finite_input; state unchanged in both cases.
+  /// Whether the smoother takes a step of dt (s): dt in [1e-6, 1] (a robot's command period is
+  /// about 1e-3 s); false for NaN.
+  static bool validStep(Scalar dt) noexcept { return dt >= Scalar(1e-6) && dt <= Scalar(1); }
+
+  /// One step of length dt (s) towards `target`. dt not validStep → invalid_time_step;
+  /// non-finite target → non_finite_input; state unchanged in both cases.
   Status step(const Twist& target, Scalar dt) noexcept {
-    if (!(dt >= Scalar(1e-6) && dt <= Scalar(1))) return Status::invalid_time_step;
+    if (!validStep(dt)) return Status::invalid_time_step;
     if (!target.allFinite()) return Status::non_finite_input;
     lin_.step(target.template head<3>(), limits_.translation, dt);
     ang_.step(target.template tail<3>(), limits_.rotation, dt);
