@@ -1,7 +1,7 @@
 // benchmarks/bench_estimation.cpp — estimation and control: two-factor fusion
 // (Algorithm 3, alg:se3_data_fusion) with 1–10 iterations under each Jacobian policy, one full filter step
 // (Algorithm 2, alg:se3_bayes_filter: predict + correct, 5 fusion iterations; information (the
-// default) and square-root form; and with 1–5 iterations), one controller step
+// default) and square-root form; with 1–5 iterations; and with the converged rule), one controller step
 // (TactileServoController, PushingController) and the whole estimate-and-control cycle
 // (fromTangentGaussian + filter step + servo step), SE(3), float and double.
 #include <benchmark/benchmark.h>
@@ -90,6 +90,28 @@ void BM_FilterIterations(benchmark::State& state) {
 }
 BENCHMARK_TEMPLATE(BM_FilterIterations, lieservo::SE3<double>, lieservo::PaperJacobian)->DenseRange(1, 5);
 BENCHMARK_TEMPLATE(BM_FilterIterations, lieservo::SE3<double>, lieservo::ClosedFormJacobian)->DenseRange(1, 5);
+
+// The same step with the converged rule (FusionOptions::converged(): stop once an update is
+// under 0.01 standard deviations, at most 5); the counter is the mean number of iterations.
+template <class G, class Policy>
+void BM_FilterStepConverged(benchmark::State& state) {
+  typename lieservo::DiscriminativeBayesFilter<G, Policy>::Options options;
+  options.fusion = lieservo::FusionOptions<typename G::Scalar>::converged();
+  runFilterSteps<G, Policy>(state, options);
+  // The iterations of the same inputs, counted outside the timed loop.
+  const auto& in = FilterInputs<G>::get();
+  lieservo::DiscriminativeBayesFilter<G, Policy> filter(options);
+  (void)filter.step(in.sensor[0], in.obs[0]);
+  double sum = 0;
+  for (std::size_t i = 1; i < kRing; ++i) {
+    (void)filter.step(in.sensor[i], in.obs[i]);
+    sum += filter.diagnostics().iterations;
+  }
+  state.counters["iterations"] = sum / double(kRing - 1);
+}
+BENCHMARK_TEMPLATE(BM_FilterStepConverged, lieservo::SE3<double>, lieservo::PaperJacobian);
+BENCHMARK_TEMPLATE(BM_FilterStepConverged, lieservo::SE3<double>, lieservo::ClosedFormJacobian);
+BENCHMARK_TEMPLATE(BM_FilterStepConverged, lieservo::SE3<float>, lieservo::PaperJacobian);
 
 // ---- one controller step ----------------------------------------------------------------------
 template <class Scalar>

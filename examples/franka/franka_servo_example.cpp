@@ -16,6 +16,7 @@
 // The tactile front end sits behind one seam, `TactileFrontEnd`: replace
 // `OpenCvGdnFrontEnd` to use a different sensor or model.
 #include "franka_adapter.hpp"
+#include "franka_example_options.hpp"
 
 #include <lieservo/control/presets.hpp>
 #include <lieservo/control/pushing_controller.hpp>
@@ -36,7 +37,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -54,73 +54,8 @@ using Twist = SE3d::Tangent;
 std::atomic<bool> g_interrupted{false};
 extern "C" void onSignal(int) { g_interrupted.store(true); }
 
-// ---- Command line -------------------------------------------------------------------
-struct Args {
-  std::string robot_ip;
-  std::string task = "follow";  // follow | push
-  int camera = 0;
-  std::string model_card;
-  std::string preprocess;       // processed_image_params.json ("" = defaults)
-  std::vector<double> mount{0, 0, 0, 0, 0, 0};  // X_ES: x y z (mm), α β γ (deg, extrinsic xyz)
-  std::vector<double> start;                    // optional X_ws to move to first (mm, deg)
-  double heading_deg = 90;      // follow: feedforward direction in the reference xy-plane
-  double speed = 10;            // follow: feedforward speed (mm/s), paper 10
-  std::vector<double> target{0, 0, 375};  // push: target position in {w} (mm); paper (y, z) = (0, 375)
-  double approach_speed = 5;    // mm/s along the sensor z until contact
-  double approach_max_mm = 30;  // give up if no contact after this far
-  double contact_threshold = -1;  // mean |I − I_ref| of the processed image; < 0: 4× the no-contact noise
-  double duration = 60;         // s
-  double max_speed = 50;        // mm/s: translational velocity limit of the smoother
-};
-
-std::vector<double> parseList(const std::string& s, std::size_t n, const char* what) {
-  std::vector<double> v;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ',')) v.push_back(std::stod(item));
-  if (v.size() != n) throw std::runtime_error(std::string(what) + ": expected " + std::to_string(n) + " comma-separated numbers");
-  return v;
-}
-
-void usage() {
-  std::puts(
-      "franka_servo_example --robot IP --model-card PATH [--task follow|push] [--camera N]\n"
-      "  [--preprocess PARAMS.json] [--mount x,y,z,a,b,g] [--start x,y,z,a,b,g] [--heading DEG]\n"
-      "  [--speed MM_S] [--target x,y,z] [--approach-speed MM_S] [--approach-max MM]\n"
-      "  [--contact-threshold T] [--duration S] [--max-speed MM_S]\n"
-      "Poses: mm and degrees (extrinsic xyz). --mount is the sensor frame in libfranka's EE frame.");
-}
-
-Args parseArgs(int argc, char** argv) {
-  Args a;
-  for (int i = 1; i < argc; ++i) {
-    const std::string k = argv[i];
-    auto val = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::runtime_error("missing value for " + k);
-      return argv[++i];
-    };
-    if (k == "--robot") a.robot_ip = val();
-    else if (k == "--task") a.task = val();
-    else if (k == "--camera") a.camera = std::stoi(val());
-    else if (k == "--model-card") a.model_card = val();
-    else if (k == "--preprocess") a.preprocess = val();
-    else if (k == "--mount") a.mount = parseList(val(), 6, "--mount");
-    else if (k == "--start") a.start = parseList(val(), 6, "--start");
-    else if (k == "--heading") a.heading_deg = std::stod(val());
-    else if (k == "--speed") a.speed = std::stod(val());
-    else if (k == "--target") a.target = parseList(val(), 3, "--target");
-    else if (k == "--approach-speed") a.approach_speed = std::stod(val());
-    else if (k == "--approach-max") a.approach_max_mm = std::stod(val());
-    else if (k == "--contact-threshold") a.contact_threshold = std::stod(val());
-    else if (k == "--duration") a.duration = std::stod(val());
-    else if (k == "--max-speed") a.max_speed = std::stod(val());
-    else if (k == "--help" || k == "-h") { usage(); std::exit(0); }
-    else throw std::runtime_error("unknown option " + k);
-  }
-  if (a.robot_ip.empty() || a.model_card.empty()) throw std::runtime_error("--robot and --model-card are required");
-  if (a.task != "follow" && a.task != "push") throw std::runtime_error("--task must be follow or push");
-  return a;
-}
+// ---- Command line: franka_example_options.hpp ---------------------------------------
+using Args = lieservo::franka_example::Options;
 
 SE3d poseFromMmDeg(const std::vector<double>& v) {
   Eigen::Matrix<double, 6, 1> x;
@@ -304,13 +239,7 @@ void tactileLoop(const Args& a, FrankaAdapter& robot, TactileFrontEnd& sensor, s
 
 int main(int argc, char** argv) {
   Args args;
-  try {
-    args = parseArgs(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    usage();
-    return 2;
-  }
+  if (const int status = lieservo::franka_example::parseOptions(argc, argv, args); status >= 0) return status;
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
 

@@ -287,11 +287,12 @@ void bindEstimation(py::module_& m, const std::string& suffix) {
 
   m.def(
       ("fuse" + suffix).c_str(),
-      [](const Gaussian& a, const Gaussian& b, int max_iterations, double tolerance, const std::string& jacobian,
-         const std::string& form) {
+      [](const Gaussian& a, const Gaussian& b, int max_iterations, double tolerance, bool require_convergence,
+         const std::string& jacobian, const std::string& form) {
         FusionOptions<double> o;
         o.max_iterations = max_iterations;
         o.tolerance = tolerance;
+        o.require_convergence = require_convergence;
         o.form = fusionForm(form, "fuse");
         FusionResult<G> r;
         Status s;
@@ -306,21 +307,25 @@ void bindEstimation(py::module_& m, const std::string& suffix) {
         d["fused"] = r.fused;
         d["iterations"] = r.iterations;
         d["step_norm"] = r.step_norm;
+        d["step_sigmas"] = r.step_sigmas;
+        d["converged"] = r.converged;
         d["max_rotation_separation"] = r.max_rotation_separation;
         return d;
       },
       py::arg("a"), py::arg("b"), py::arg("max_iterations") = 5, py::arg("tolerance") = 0.0,
-      py::arg("jacobian") = "paper", py::arg("form") = "information",
-      "The normalised product of two concentrated Gaussians (Algorithm 3, alg:se3_data_fusion). form: "
+      py::arg("require_convergence") = true, py::arg("jacobian") = "paper", py::arg("form") = "information",
+      "The normalised product of two concentrated Gaussians (Algorithm 3, alg:se3_data_fusion). tolerance > 0: "
+      "stop once an update is shorter than that many standard deviations of the result (0: exactly "
+      "max_iterations updates, the paper's 5); require_convergence: whether not meeting it raises. form: "
       "'information' (default; hands ill-conditioned factors to the square-root form) or 'square_root'. "
-      "Returns a dict: fused, iterations, step_norm, max_rotation_separation.");
+      "Returns a dict: fused, iterations, step_norm, step_sigmas, converged, max_rotation_separation.");
 
   using Filter = DiscriminativeBayesFilter<G, PaperJacobian>;
   const std::string fname = "DiscriminativeBayesFilter" + suffix;
   py::class_<Filter>(m, fname.c_str(),
                      "The discriminative Bayes filter (Algorithm 2, alg:se3_bayes_filter), series J⁻¹ N = 2 as the paper.")
-      .def(py::init([](const py::object& process_noise, int max_iterations, double tolerance, bool gating,
-                       double gate_probability, const std::string& form) {
+      .def(py::init([](const py::object& process_noise, int max_iterations, double tolerance,
+                       bool require_convergence, bool gating, double gate_probability, const std::string& form) {
              typename Filter::Options o;
              if (!process_noise.is_none()) {
                requireNumeric(process_noise, "DiscriminativeBayesFilter: process_noise");
@@ -337,6 +342,7 @@ void bindEstimation(py::module_& m, const std::string& suffix) {
              }
              o.fusion.max_iterations = max_iterations;
              o.fusion.tolerance = tolerance;
+             o.fusion.require_convergence = require_convergence;
              o.fusion.form = fusionForm(form, "DiscriminativeBayesFilter");
              o.gating = gating;
              o.gate_probability = gate_probability;
@@ -344,9 +350,12 @@ void bindEstimation(py::module_& m, const std::string& suffix) {
              return Filter(o);
            }),
            py::arg("process_noise") = py::none(), py::arg("max_iterations") = 5, py::arg("tolerance") = 0.0,
-           py::arg("gating") = false, py::arg("gate_probability") = 0.999, py::arg("form") = "information",
-           "process_noise: Σφ (default: the paper's σφ = 0.5 mm and 0.5°, in radians); form: the fusion's "
-           "'information' (default) or 'square_root' form.")
+           py::arg("require_convergence") = true, py::arg("gating") = false, py::arg("gate_probability") = 0.999,
+           py::arg("form") = "information",
+           "process_noise: Σφ (default: the paper's σφ = 0.5 mm and 0.5°, in radians); max_iterations, tolerance, "
+           "require_convergence: the fusion's iteration control as lieservo.fuse (the paper: 5, 0; the converged "
+           "rule: tolerance=0.01, require_convergence=False); form: the fusion's 'information' (default) or "
+           "'square_root' form.")
       .def(
           "step",
           [](Filter& f, const G& sensor_pose, const Gaussian& observation) {
@@ -385,6 +394,8 @@ void bindEstimation(py::module_& m, const std::string& suffix) {
         r["last_status"] = statusName(d.last_status);
         r["iterations"] = d.iterations;
         r["step_norm"] = d.step_norm;
+        r["step_sigmas"] = d.step_sigmas;
+        r["converged"] = d.converged;
         r["nis"] = d.nis;
         r["gated"] = d.gated;
         r["corrections"] = d.corrections;

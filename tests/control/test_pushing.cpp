@@ -171,8 +171,7 @@ TEST_CASE("pushing: invalid input leaves everything unchanged", "[control][pushi
   const double nan = std::numeric_limits<double>::quiet_NaN();
   CHECK(push.step(G::identity(), X_sf, 0.0, u) == Status::invalid_time_step);
   CHECK(push.step(G::identity(), X_sf, nan, u) == Status::invalid_time_step);
-  G bad = G::identity();
-  bad.translation()[0] = nan;
+  const G bad(G::SO3Type(), G::Vector3(nan, 0, 0));
   CHECK(push.step(G::identity(), bad, 0.05, u) == Status::non_finite_input);
   CHECK(push.step(bad, X_sf, 0.05, u) == Status::non_finite_input);
   // A rotation block scaled by 1.01: finite, but not a rotation.

@@ -110,8 +110,7 @@ TEST_CASE("servo: invalid dt or non-finite pose leaves everything unchanged", "[
   CHECK(servo.step(SE3d_::identity(), 0.0, u) == Status::invalid_time_step);
   CHECK(servo.step(SE3d_::identity(), -1.0, u) == Status::invalid_time_step);
   CHECK(servo.step(SE3d_::identity(), nan, u) == Status::invalid_time_step);
-  SE3d_ bad = X;
-  bad.translation()[1] = nan;
+  const SE3d_ bad(X.so3(), X.translation() + SE3d_::Vector3(0, nan, 0));
   CHECK(servo.step(bad, 0.1, u) == Status::non_finite_input);
   CHECK(u == u0);
   CHECK(servo.tangentError() == e0);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <stdexcept>
 
 #include <Eigen/Dense>
 
@@ -20,6 +21,15 @@ Vec randn(Rng& rng, double scale = 1.0) {
   for (Eigen::Index i = 0; i < v.size(); ++i)
     v.data()[i] = typename Vec::Scalar(scale * lieservo::sampling::standardNormal(rng));
   return v;
+}
+
+/// One draw of `x` (lieservo::sample); a refused draw (an invalid mean or a covariance that is
+/// not SPD) is a broken test set-up, so it throws and the test case fails.
+template <class G, class Rng>
+G draw(const ConcentratedGaussian<G>& x, Rng& rng) {
+  G out;
+  if (sample(x, rng, out) != Status::ok) throw std::runtime_error("draw: the Gaussian was refused");
+  return out;
 }
 
 inline double uniform(lieservo::sampling::Rng& rng, double lo, double hi) {
@@ -74,7 +84,7 @@ ConcentratedGaussian<G> randomFactor(lieservo::sampling::Rng& rng, const G& cent
   // Draw the mean from the factor's own distribution around `centre` (so factors disagree
   // by about one standard deviation, as a prediction and an observation typically do).
   const ConcentratedGaussian<G> around(centre, f.covariance);
-  f.mean = sample(around, rng);
+  f.mean = draw(around, rng);
   return f;
 }
 

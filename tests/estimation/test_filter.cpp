@@ -54,7 +54,7 @@ struct Simulator {
     ConcentratedGaussian<G> o;
     o.covariance = correlatedCovariance<G>(rng, s);
     const ConcentratedGaussian<G> noise(G(), o.covariance);
-    o.mean = sample(noise, rng) * X;  // exp(n) X
+    o.mean = draw(noise, rng) * X;  // exp(n) X
     return o;
   }
   /// Moves the sensor and the true state; returns the new sensor pose.
@@ -63,7 +63,7 @@ struct Simulator {
     sens = sens * G::exp(randn<Tangent>(rng, motion_scale));
     const G T = sens.inverse() * prev;
     const ConcentratedGaussian<G> phi(T, Sphi);
-    X = sample(phi, rng) * X;
+    X = draw(phi, rng) * X;
     return sens;
   }
 };
@@ -186,7 +186,8 @@ TEST_CASE("filter: SO(2) equals the scalar Kalman filter on the angle", "[estima
 template <class G>
 void consistencyTest(unsigned seed, const typename G::Jacobian& Sphi,
                      const typename G::Tangent& obs_sigma, double motion, long runs, int steps,
-                     long long_steps) {
+                     long long_steps,
+                     const FusionOptions<typename G::Scalar>& fusion = FusionOptions<typename G::Scalar>::paper()) {
   // (a) `runs` independent runs of `steps` steps: the NEES at the last step of each run are
   // independent χ²(DoF) samples, so their average lies in [χ²_{.025}(DoF·M), χ²_{.975}(DoF·M)]/M
   // with 95 % probability.
@@ -197,6 +198,7 @@ void consistencyTest(unsigned seed, const typename G::Jacobian& Sphi,
     Simulator<G> sim(seed + unsigned(r), Sphi, obs_sigma, motion);
     typename DiscriminativeBayesFilter<G>::Options opt;
     opt.process_noise = Sphi;
+    opt.fusion = fusion;
     DiscriminativeBayesFilter<G> f(opt);
     REQUIRE(f.step(sim.sens, sim.observe()) == Status::ok);
     for (int k = 0; k < steps; ++k) {
@@ -226,6 +228,7 @@ void consistencyTest(unsigned seed, const typename G::Jacobian& Sphi,
   Simulator<G> sim(seed + 100000u, Sphi, obs_sigma, motion);
   typename DiscriminativeBayesFilter<G>::Options opt;
   opt.process_noise = Sphi;
+  opt.fusion = fusion;
   DiscriminativeBayesFilter<G> f(opt);
   REQUIRE(f.step(sim.sens, sim.observe()) == Status::ok);
   std::vector<double> nees_k;
@@ -265,6 +268,15 @@ TEST_CASE("filter: statistical consistency on simulated SE(3) sequences (NEES, N
   // The paper's process noise (σφ = 0.5 mm, 0.5°) and GDN-like observation noise.
   consistencyTest<G>(1000, paperProcessNoise<G>(), gdnSigma(), 0.02,
                      test::scaledCount(1000, 100), 20, 2000);
+}
+
+TEST_CASE("filter: the converged rule stays consistent at the paper's noise", "[estimation][filter][consistency]") {
+  // FusionOptions::converged() (an update under 0.01 σ, at most the paper's 5): the same NEES
+  // and NIS intervals as the paper's fixed count (criteria set before the run). At large
+  // rotation noise: test_fusion.cpp, "what one iteration costs".
+  using G = SE3d;
+  consistencyTest<G>(1000, paperProcessNoise<G>(), gdnSigma(), 0.02, test::scaledCount(1000, 100), 20, 2000,
+                     FusionOptions<double>::converged());
 }
 
 TEST_CASE("filter: statistical consistency for SE(2) and SO(3)", "[estimation][filter][consistency]") {

@@ -5,6 +5,7 @@
 //   * no crash, no UB (ASan+UBSan), no exception escapes parse();
 //   * parse() returns -1 (go on), 0 (help) or 2 (refused);
 //   * when it goes on, every parsed value is finite and inside its validator's range.
+// The same words then go through the Franka example's own parser (franka_example_options.hpp).
 #include <lieservo_cli/cli.hpp>
 
 #include <cmath>
@@ -14,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "franka_example_options.hpp"
 #include "fuzz_common.hpp"
 
 namespace {
@@ -35,7 +37,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   namespace cli = lieservo::cli;
   // The bytes as arguments, split at NUL; a few option names first so that they occur often.
   static const char* const names[] = {"--seed", "--trials", "--rate", "--sigmas", "--observations",
-                                      "--quick", "--out", "--help", "-h", "--"};
+                                      "--quick", "--mount", "--help", "--robot", "@card"};
   std::vector<std::string> args{"fuzz_cli"};
   std::string cur;
   for (std::size_t i = 0; i < size; ++i) {
@@ -44,7 +46,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       args.push_back(cur);
       cur.clear();
     } else if (std::uint8_t(c) >= 0xF6 && cur.empty()) {
-      args.push_back(names[std::uint8_t(c) - 0xF6]);
+      const std::string name = names[std::uint8_t(c) - 0xF6];
+      if (name == "@card") {  // a model card that exists, so the Franka parser can succeed
+        args.push_back("--model-card");
+        args.push_back("/proc/self/exe");
+      } else {
+        args.push_back(name);
+      }
     } else {
       cur += c;
     }
@@ -79,6 +87,31 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     LIESERVO_FUZZ_REQUIRE(std::isfinite(rate) && rate >= 1 && rate <= 1000);
     for (const double s : sigmas) LIESERVO_FUZZ_REQUIRE(std::isfinite(s) && s >= 1e-6 && s <= 100);
     LIESERVO_FUZZ_REQUIRE(observations == "auto" || observations == "real" || observations == "gaussian");
+  }
+
+  // The Franka example's own parser (examples/franka/franka_example_options.hpp) on the same
+  // words: on success every list has its length and every number is finite and in range; on
+  // refusal the options are as they were.
+  namespace fe = lieservo::franka_example;
+  fe::Options o;
+  o.robot_ip = "before";
+  {
+    Silence quiet;
+    status = fe::parseOptions(int(argv.size()), argv.data(), o);
+  }
+  LIESERVO_FUZZ_REQUIRE(status == -1 || status == cli::kOk || status == cli::kUsageOrSetup);
+  if (status == -1) {
+    LIESERVO_FUZZ_REQUIRE(o.mount.size() == 6 && o.target.size() == 3 && (o.start.empty() || o.start.size() == 6));
+    for (const auto* v : {&o.mount, &o.target, &o.start})
+      for (const double x : *v) LIESERVO_FUZZ_REQUIRE(std::isfinite(x) && std::abs(x) <= 5000);
+    LIESERVO_FUZZ_REQUIRE(o.task == "follow" || o.task == "push");
+    LIESERVO_FUZZ_REQUIRE(o.camera >= 0 && o.camera <= 63);
+    for (const double x : {o.heading_deg, o.speed, o.approach_speed, o.approach_max_mm, o.contact_threshold,
+                           o.duration, o.max_speed})
+      LIESERVO_FUZZ_REQUIRE(std::isfinite(x));
+    LIESERVO_FUZZ_REQUIRE(o.speed > 0 && o.max_speed > 0 && o.max_speed <= 1700 && o.duration > 0);
+  } else {
+    LIESERVO_FUZZ_REQUIRE(o.robot_ip == "before" && o.mount == std::vector<double>(6, 0.0));
   }
   return 0;
 }

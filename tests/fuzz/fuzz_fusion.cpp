@@ -18,6 +18,7 @@ void fuseWith(Bytes& b, const ConcentratedGaussian<G>* f, int count) {
   o.max_iterations = int(b.u8() % 12);  // 0 is invalid
   const std::uint8_t tm = b.u8();
   o.tolerance = (tm & 1) ? Bytes::to<S>(b.value()) : S(0);
+  o.require_convergence = (tm & 2) != 0;
   FusionResult<G> r;
   r.fused.mean = fuzz::groupElement<G>(b);
   r.iterations = 12345;
@@ -30,7 +31,16 @@ void fuseWith(Bytes& b, const ConcentratedGaussian<G>* f, int count) {
     LIESERVO_FUZZ_REQUIRE(fuzz::allFinite(r.fused));
     LIESERVO_FUZZ_REQUIRE(r.fused.validate() == Status::ok);
     LIESERVO_FUZZ_REQUIRE(std::isfinite(r.step_norm) && std::isfinite(r.max_rotation_separation));
+    LIESERVO_FUZZ_REQUIRE(std::isfinite(r.step_sigmas) && r.step_sigmas >= S(0));
     LIESERVO_FUZZ_REQUIRE(r.iterations >= 1 && r.iterations <= o.max_iterations);
+    // The converged rule: met exactly when the last update was under the tolerance, and
+    // required unless asked otherwise; the fixed count never claims it.
+    if (o.tolerance > S(0)) {
+      LIESERVO_FUZZ_REQUIRE(r.converged == (r.step_sigmas < o.tolerance));
+      if (o.require_convergence) LIESERVO_FUZZ_REQUIRE(r.converged);
+    } else {
+      LIESERVO_FUZZ_REQUIRE(!r.converged && r.iterations == o.max_iterations);
+    }
   } else {
     LIESERVO_FUZZ_REQUIRE(fuzz::bitwiseEqual(r.fused, before.fused) && r.iterations == 12345);
   }

@@ -43,6 +43,20 @@ struct RotIndex<lieservo::SE3<S>> {
   static constexpr int start = 3, count = 3;
 };
 
+// ---- a uniformly drawn element -------------------------------------------------------------
+// Rotation groups have no translation, so only SE(2) and SE(3) take a translation scale.
+template <class G>
+constexpr bool hasTranslation() {
+  return RotIndex<G>::start > 0;
+}
+template <class G, class R>
+G uniformElement(R& rng, typename G::Scalar translation_scale) {
+  if constexpr (hasTranslation<G>())
+    return G::sampleUniform(rng, translation_scale);
+  else
+    return G::sampleUniform(rng);
+}
+
 template <class G>
 double rotationAngle(const typename G::Tangent& xi) {
   return static_cast<double>(xi.template segment<RotIndex<G>::count>(RotIndex<G>::start).norm());
@@ -113,7 +127,7 @@ void checkRoundTrips(int n, double trans) {
   lieservo::sampling::Rng rng(42);
   double worst_group = 0, worst_tangent = 0, worst_angle = 0;
   for (int i = 0; i < n; ++i) {
-    const G X = G::sampleUniform(rng, S(trans));
+    const G X = lst::uniformElement<G>(rng, S(trans));
     const typename G::Tangent xi = X.log();
     worst_angle = std::max(worst_angle, rotationAngle<G>(xi));
     worst_group = std::max(worst_group, matDiff(G::exp(xi), X) / (1 + trans));
@@ -198,7 +212,7 @@ void checkAdjoint(int n) {
   lieservo::sampling::Rng rng(11);
   double worst = 0, worst_conj = 0;
   for (int i = 0; i < n; ++i) {
-    const G X = G::sampleUniform(rng, S(2)), Y = G::sampleUniform(rng, S(2));
+    const G X = lst::uniformElement<G>(rng, S(2)), Y = lst::uniformElement<G>(rng, S(2));
     const typename G::Tangent xi = randomTangent<G>(rng, 3.0, 1.0);
     // X exp(ξ^) X⁻¹ = exp((Ad(X) ξ)^)
     worst_conj = std::max(worst_conj, matDiff(X * G::exp(xi) * X.inverse(), G::exp(X.Ad() * xi)));
@@ -390,8 +404,8 @@ void checkCheckedConstruction() {
   using S = typename G::Scalar;
   using M = typename G::Matrix;
   lieservo::sampling::Rng rng(37);
-  const G X = G::sampleUniform(rng, S(3));
-  const G sentinel = G::sampleUniform(rng, S(3));
+  const G X = lst::uniformElement<G>(rng, S(3));
+  const G sentinel = lst::uniformElement<G>(rng, S(3));
   G out = sentinel;
   REQUIRE(G::fromMatrix(X.matrix(), out) == lieservo::Status::ok);
   CHECK(matDiff(out, X) == 0.0);
@@ -440,8 +454,8 @@ template <class G>
 void checkSamplingAndCast() {
   using S = typename G::Scalar;
   lieservo::sampling::Rng r1(99), r2(99);
-  for (int i = 0; i < 10; ++i) CHECK(matDiff(G::sampleUniform(r1, S(5)), G::sampleUniform(r2, S(5))) == 0.0);
-  const G X = G::sampleUniform(r1, S(5));
+  for (int i = 0; i < 10; ++i) CHECK(matDiff(lst::uniformElement<G>(r1, S(5)), lst::uniformElement<G>(r2, S(5))) == 0.0);
+  const G X = lst::uniformElement<G>(r1, S(5));
   CHECK(X.allFinite());
   CHECK(X.isApprox(X, S(0)));
   CHECK(X.isApprox(X * G::exp(G::Tangent::Constant(S(1e-4))), S(1e-3)));

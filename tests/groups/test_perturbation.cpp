@@ -20,8 +20,8 @@ TEMPLATE_TEST_CASE("lplus/lminus: inverse operations on the principal branch", "
   const double tol = 2000 * lst::epsOf<S>();
   double worst_eps = 0, worst_X = 0;
   for (int k = 0; k < n; ++k) {
-    const G X = G::sampleUniform(rng, S(2));
-    const G Y = G::sampleUniform(rng, S(2));
+    const G X = lst::uniformElement<G>(rng, S(2));
+    const G Y = lst::uniformElement<G>(rng, S(2));
     const typename G::Tangent eps = lst::randomTangent<G>(rng, 3.0, 1.0);
     // lminus(lplus(X, ε), X) = ε
     const typename G::Tangent back = lminus(lplus(X, eps), X);

@@ -403,7 +403,7 @@ TEST_CASE("mujoco: bad scene input names the parameter", "[sim][mujoco]") {
   s.fixtures[0].friction = -0.1;
   throwsWith(s, "friction");
   s.fixtures[0] = FixtureSpec{};
-  s.fixtures[0].pose.translation() = Vec3(std::nan(""), 0, 0);
+  s.fixtures[0].pose = SE3d(s.fixtures[0].pose.so3(), Vec3(std::nan(""), 0, 0));
   throwsWith(s, "pose");
 }
 

@@ -59,7 +59,8 @@ class DiscriminativeBayesFilter {
   struct Options {
     /// Σφ of the state dynamics (finite, symmetric, positive SEMI-definite; 0 allowed).
     Jacobian process_noise = paperProcessNoise<G>();
-    /// Iterations of the correction's data fusion (paper: 5, tolerance 0).
+    /// The correction's data fusion: FusionOptions::paper() (exactly 5 iterations, the default)
+    /// or FusionOptions::converged() (stop once an update is under 0.01 standard deviations).
     FusionOptions<Scalar> fusion{};
     /// Reject observations whose NIS exceeds the χ²(DoF) quantile at gate_probability.
     bool gating = false;
@@ -71,6 +72,8 @@ class DiscriminativeBayesFilter {
     Status last_status = Status::not_initialised;  ///< Status of the latest call
     int iterations = 0;            ///< fusion iterations of the latest correction
     Scalar step_norm = Scalar(0);  ///< ‖μ‖ of the last fusion update
+    Scalar step_sigmas = Scalar(0);  ///< √(μᵀ Σ*⁻¹ μ) of the last update (FusionResult)
+    bool converged = false;        ///< the converged rule was met (FusionResult)
     Scalar nis = Scalar(0);        ///< normalised innovation squared of the latest observation
     bool gated = false;            ///< the latest observation was rejected by the gate
     Scalar gate_threshold = Scalar(0);  ///< χ²(DoF) quantile at gate_probability
@@ -247,6 +250,8 @@ class DiscriminativeBayesFilter {
       d.gated = true;
       d.iterations = 0;
       d.step_norm = Scalar(0);
+      d.step_sigmas = Scalar(0);
+      d.converged = false;
       ++d.rejected;
       return Status::outlier_rejected;
     }
@@ -261,6 +266,8 @@ class DiscriminativeBayesFilter {
     d.gated = false;
     d.iterations = r.iterations;
     d.step_norm = r.step_norm;
+    d.step_sigmas = r.step_sigmas;
+    d.converged = r.converged;
     d.max_rotation_separation = r.max_rotation_separation;
     ++d.corrections;
     return Status::ok;

@@ -209,16 +209,21 @@ Status mahalanobisSquared(const ConcentratedGaussian<G>& x, const G& X,
   return Status::ok;
 }
 
-/// Draws X = exp(ε^) X̄ with ε ~ N(0, Σ) (Σ must be SPD; uses its Cholesky factor).
-/// Not real-time; for simulations and tests. The draws come from sampling::standardNormal, so a
-/// seed gives the same sample on every platform.
+/// Draws X = exp(ε^) X̄ with ε ~ N(0, Σ) into `out`, using Σ's Cholesky factor. Refuses a
+/// mean that is not a valid element or a Σ that is not SPD (its status; `out` and the generator
+/// untouched). Not real-time; for simulations and tests. The draws come from
+/// sampling::standardNormal, so a seed gives the same sample on every platform.
 template <class G, class URBG>
-G sample(const ConcentratedGaussian<G>& x, URBG& rng) {
+Status sample(const ConcentratedGaussian<G>& x, URBG& rng, G& out) {
   using Scalar = typename G::Scalar;
+  Status s = validateElement(x.mean);
+  if (s != Status::ok) return s;
   typename G::Jacobian L;
-  if (detail::choleskyChecked(x.covariance, L) != Status::ok) return x.mean;
+  s = detail::choleskyChecked(x.covariance, L);
+  if (s != Status::ok) return s;
   const typename G::Tangent z = sampling::standardNormalVector<G::DoF, Scalar>(rng);
-  return G::exp(L * z) * x.mean;
+  out = G::exp(L * z) * x.mean;
+  return Status::ok;
 }
 
 }  // namespace lieservo

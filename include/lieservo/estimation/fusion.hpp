@@ -63,7 +63,7 @@ enum class FusionForm {
 /// only let a mistyped option stall a real-time loop.
 inline constexpr int kMaxFusionIterations = 100;
 
-/// Iteration control of fuse().
+/// Iteration control of fuse(): the paper's fixed count, or the converged rule.
 template <class Scalar>
 struct FusionOptions {
   /// Upper bound on the number of operating-point updates, in [1, kMaxFusionIterations]. The
@@ -71,12 +71,30 @@ struct FusionOptions {
   /// predictable timing). One update is a single linearisation at the first factor's mean,
   /// slightly over-confident at large rotation noise (docs/estimation.md, "Reading").
   int max_iterations = 5;
-  /// If > 0: stop as soon as the step norm ‖μ‖₂ of an update falls below it; if that never
-  /// happens within max_iterations, fuse() returns Status::not_converged. Must be finite, ≥ 0.
+  /// The converged rule, if > 0: stop as soon as an update μ is shorter than `tolerance`
+  /// standard deviations of the fused estimate, √(μᵀ Σ*⁻¹ μ) with Σ*⁻¹ the information of the
+  /// same linearisation. Dimensionless: a step in mm and one in rad are each weighed by their
+  /// own uncertainty (FusionResult::step_sigmas). Finite, ≥ 0; 0 = the fixed count.
   Scalar tolerance = Scalar(0);
+  /// With tolerance > 0: whether max_iterations updates without meeting it is an error
+  /// (Status::not_converged, for a reference that must converge) or returns the last update
+  /// with ok (converged(): a step time bounded by max_iterations).
+  bool require_convergence = true;
   /// Information (default, with its fall-back to the square-root form) or square-root form of
   /// each iteration's solve.
   FusionForm form = FusionForm::information;
+
+  /// The paper's fusion: exactly 5 updates (Algorithm 3 as the paper runs it).
+  static FusionOptions paper() noexcept { return FusionOptions(); }
+  /// The converged rule: stop once an update is under `tol` standard deviations, after at most
+  /// `max` updates (never more work than the paper's 5; docs/estimation.md, "Stopping rule").
+  static FusionOptions converged(Scalar tol = Scalar(0.01), int max = 5) noexcept {
+    FusionOptions o;
+    o.max_iterations = max;
+    o.tolerance = tol;
+    o.require_convergence = false;
+    return o;
+  }
 };
 
 /// Whether `o` is a valid FusionOptions: max_iterations in [1, kMaxFusionIterations], tolerance
@@ -93,10 +111,15 @@ struct FusionResult {
   ConcentratedGaussian<G> fused;  ///< (X̄*, Σ*): the normalised product
   int iterations = 0;             ///< operating-point updates performed
   /// ‖μ‖₂ of the last update (tangent units as given: e.g. mm and rad mixed, as in the paper).
-  /// In real-time mode (tolerance = 0) the only sign of an iteration that has not settled:
-  /// factors far outside the concentrated regime (rotational σ ≫ 1 rad) can make it wander
-  /// (docs/performance.md, hard-set finding), and the result is still returned with ok.
   typename G::Scalar step_norm = typename G::Scalar(0);
+  /// √(μᵀ Σ*⁻¹ μ) of the last update: its length in standard deviations of the result, what
+  /// FusionOptions::tolerance compares. With the fixed count (tolerance = 0) the only sign of
+  /// an iteration that has not settled: factors far outside the concentrated regime
+  /// (rotational σ ≫ 1 rad) can make it wander (docs/performance.md, hard-set finding), and
+  /// the result is still returned with ok.
+  typename G::Scalar step_sigmas = typename G::Scalar(0);
+  /// Whether the converged rule (tolerance > 0) was met; false with the fixed count.
+  bool converged = false;
   /// Largest rotation angle |φ| (rad) of ξ_i = ln(X̄_1 X̄_i⁻¹)^∨ at the initial operating point:
   /// how far apart the factor means are in rotation (the concentrated-Gaussian assumption
   /// wants this small compared with π).
@@ -403,7 +426,7 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
   Jacobian Hinv = Jacobian::Identity();
   Scalar inverse_trace(0);  // trace of the equilibrated H⁻¹ (spdInverse)
   Tangent mu = Tangent::Zero();
-  Scalar step(0);
+  Scalar step(0), step_sigmas(0);
   int it = 0;
   bool converged = false;
   while (it < options.max_iterations) {
@@ -462,6 +485,7 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
         return fuseFactored<Policy>(means, L, count, sqrt_options, result, second);
       }
       mu.noalias() = -(Hinv * g);
+      step_sigmas = std::sqrt(std::max(Scalar(0), mu.dot(H * mu)));  // √(μᵀ H μ)
     } else {
       info.compress();
       R = info.R();
@@ -470,17 +494,18 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
       // = −(RᵀR)⁻¹ Rᵀc = −R⁻¹ c
       mu = -info.c();
       upperSolveInPlace(R, mu);
+      step_sigmas = (R.template triangularView<Eigen::Upper>() * mu).norm();  // ‖R μ‖ = √(μᵀ RᵀR μ)
     }
     if (!allFinite(mu)) return Status::numerical_failure;
     X = G::exp(mu) * X;  // eq. 54 (eqn:se3_normalised_prod_update)
     ++it;
     step = mu.norm();
-    if (options.tolerance > Scalar(0) && step < options.tolerance) {
+    if (options.tolerance > Scalar(0) && step_sigmas < options.tolerance) {
       converged = true;
       break;
     }
   }
-  if (options.tolerance > Scalar(0) && !converged) return Status::not_converged;
+  if (options.tolerance > Scalar(0) && !converged && options.require_convergence) return Status::not_converged;
 
   X.normalize();
   // Σ* = H⁻¹ = (RᵀR)⁻¹ = R⁻¹ R⁻ᵀ, from the last linearisation (as the paper's algorithm
@@ -492,7 +517,7 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
     const Jacobian Rinv = upperTriangularInverse(R);
     Sigma = Rinv * Rinv.transpose();
   }
-  if (!X.allFinite() || !allFinite(Sigma) || !std::isfinite(step))
+  if (!X.allFinite() || !allFinite(Sigma) || !std::isfinite(step) || !std::isfinite(step_sigmas))
     return Status::numerical_failure;
   // Σ* is SPD in exact arithmetic; rounding can break that when its eigenvalues span more than
   // ~1/eps in a rotated basis (only the square-root form reaches such spreads): symmetrise, and
@@ -514,6 +539,8 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
   result.fused = fused;
   result.iterations = it;
   result.step_norm = step;
+  result.step_sigmas = step_sigmas;
+  result.converged = converged;
   result.max_rotation_separation = max_sep;
   return Status::ok;
 }
@@ -524,7 +551,8 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
 /// kMaxFusionFactors): the operating point starts at factors[0].mean.
 /// Status: ok; invalid_argument (count or options out of range, or two means on the cut
 /// locus: relative rotation within cutLocusMargin() of π); non_finite_input / not_orthonormal /
-/// not_spd (a factor fails validate()); not_converged (tolerance > 0 not reached);
+/// not_spd (a factor fails validate()); not_converged (tolerance > 0 not reached within
+/// max_iterations, with require_convergence);
 /// numerical_failure (a non-finite or non-SPD intermediate/result). `result` is written only
 /// when the Status is ok. noexcept, allocation-free.
 template <class Policy = PaperJacobian, class G>

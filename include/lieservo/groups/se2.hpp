@@ -133,11 +133,10 @@ class SE2 {
     m.template topRightCorner<2, 1>() = t_;
     return m;
   }
+  /// Read-only parts (as SE3's).
   const SO2Type& so2() const { return R_; }
-  SO2Type& so2() { return R_; }
   Matrix2 rotationMatrix() const { return R_.matrix(); }
   const Vector2& translation() const { return t_; }
-  Vector2& translation() { return t_; }
 
   static SE2 fromMatrixUnchecked(const Matrix& m) {
     return SE2(SO2Type::fromMatrixUnchecked(m.template topLeftCorner<2, 2>()), m.template topRightCorner<2, 1>());
@@ -172,6 +171,7 @@ class SE2 {
   SE2<NewScalar> cast() const {
     return SE2<NewScalar>(R_.template cast<NewScalar>(), t_.template cast<NewScalar>());
   }
+  /// Uniform rotation and translation uniform in [−s, s]², s = translation_scale.
   template <class Rng>
   static SE2 sampleUniform(Rng& rng, Scalar translation_scale = Scalar(1)) {
     const SO2Type R = SO2Type::sampleUniform(rng);

@@ -45,7 +45,7 @@ class SE3 {
   /// Written in place from the operands (see SO3::operator*: no temporaries read back).
   SE3 operator*(const SE3& o) const {
     SE3 x;
-    detail::multiply3(C_.rotationMatrix(), o.C_.rotationMatrix(), x.C_.rotationMatrix());
+    detail::multiply3(C_.C_, o.C_.C_, x.C_.C_);
     x.r_ = r_;
     x.r_.noalias() += C_.rotationMatrix() * o.r_;
     return x;
@@ -55,7 +55,7 @@ class SE3 {
   /// [Cᵀ, −Cᵀr], both read from C (not from the stored transpose: see operator*).
   SE3 inverse() const {
     SE3 x;
-    x.C_.rotationMatrix() = C_.rotationMatrix().transpose();
+    x.C_.C_ = C_.C_.transpose();
     x.r_.noalias() = -(C_.rotationMatrix().transpose() * r_);
     return x;
   }
@@ -226,12 +226,11 @@ class SE3 {
     m.template topRightCorner<3, 1>() = r_;
     return m;
   }
+  /// Read-only parts: an element changes only through the group operations and the checked
+  /// or explicitly unchecked constructors, so a valid element stays valid.
   const SO3Type& so3() const { return C_; }
-  SO3Type& so3() { return C_; }
   const Matrix3& rotationMatrix() const { return C_.rotationMatrix(); }
-  Matrix3& rotationMatrix() { return C_.rotationMatrix(); }
   const Vector3& translation() const { return r_; }
-  Vector3& translation() { return r_; }
 
   /// Unchecked: the top-left block is taken as the rotation, the last column as r; the
   /// bottom row is ignored.

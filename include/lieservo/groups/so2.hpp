@@ -134,9 +134,9 @@ class SO2 {
   SO2<NewScalar> cast() const {
     return SO2<NewScalar>::fromCosSinUnchecked(NewScalar(c()), NewScalar(s()));
   }
+  /// Uniformly distributed rotation: the angle uniform in [−π, π).
   template <class Rng>
-  static SO2 sampleUniform(Rng& rng, Scalar translation_scale = Scalar(1)) {
-    (void)translation_scale;
+  static SO2 sampleUniform(Rng& rng) {
     return SO2(Scalar(pi<double>() * (2.0 * detail::uniform01(rng) - 1.0)));
   }
 

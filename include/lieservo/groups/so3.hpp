@@ -145,9 +145,9 @@ class SO3 {
 
   // ---- matrices and construction -----------------------------------------------------------
   Matrix matrix() const { return C_; }
+  /// Read-only: a rotation changes only through the group operations and the checked or
+  /// explicitly unchecked constructors (fromMatrix, fromMatrixUnchecked, ...).
   const Matrix3& rotationMatrix() const { return C_; }
-  /// Mutable access (unchecked: the caller keeps C orthonormal, e.g. by calling normalize()).
-  Matrix3& rotationMatrix() { return C_; }
 
   /// Unchecked fast path: C is taken as is (the caller guarantees C ∈ SO(3)).
   static SO3 fromMatrixUnchecked(const Matrix& C) {
@@ -211,11 +211,9 @@ class SO3 {
     return SO3<NewScalar>::fromMatrixUnchecked(C_.template cast<NewScalar>());
   }
 
-  /// Uniformly distributed rotation (Haar measure) from a unit quaternion (Shoemake);
-  /// translation_scale is ignored (kept for a uniform interface across groups).
+  /// Uniformly distributed rotation (Haar measure) from a unit quaternion (Shoemake).
   template <class Rng>
-  static SO3 sampleUniform(Rng& rng, Scalar translation_scale = Scalar(1)) {
-    (void)translation_scale;
+  static SO3 sampleUniform(Rng& rng) {
     const Eigen::Vector4d q = detail::uniformQuaternion(rng);
     return fromQuaternion(Quaternion(Scalar(q(0)), Scalar(q(1)), Scalar(q(2)), Scalar(q(3))));
   }
@@ -343,6 +341,8 @@ class SO3 {
   }
 
  private:
+  template <class>
+  friend class SE3;  // composes and inverts into its own rotation in place (no temporaries)
   Matrix3 C_;
 };
 
