@@ -3,8 +3,8 @@
 // See docs/estimation.md.
 #pragma once
 
-#include "estimation/bayes_filter.hpp"
-#include "estimation/chi_square.hpp"
-#include "estimation/concentrated_gaussian.hpp"
-#include "estimation/fusion.hpp"
-#include "estimation/jacobian_policy.hpp"
+#include <lieservo/estimation/bayes_filter.hpp>
+#include <lieservo/estimation/chi_square.hpp>
+#include <lieservo/estimation/concentrated_gaussian.hpp>
+#include <lieservo/estimation/fusion.hpp>
+#include <lieservo/estimation/jacobian_policy.hpp>

@@ -2,8 +2,8 @@
 // left-perturbation operators ⊕/⊖ (lplus, lminus) shared by all of them.
 #pragma once
 
-#include "groups/perturbation.hpp"
-#include "groups/se2.hpp"
-#include "groups/se3.hpp"
-#include "groups/so2.hpp"
-#include "groups/so3.hpp"
+#include <lieservo/groups/perturbation.hpp>
+#include <lieservo/groups/se2.hpp>
+#include <lieservo/groups/se3.hpp>
+#include <lieservo/groups/so2.hpp>
+#include <lieservo/groups/so3.hpp>

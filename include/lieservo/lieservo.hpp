@@ -3,10 +3,10 @@
 // Include the area headers (e.g. <lieservo/groups.hpp>) instead to compile less.
 #pragma once
 
-#include "control.hpp"
-#include "estimation.hpp"
-#include "groups.hpp"
-#include "realtime.hpp"
-#include "sampling.hpp"
-#include "status.hpp"
-#include "units.hpp"
+#include <lieservo/control.hpp>
+#include <lieservo/estimation.hpp>
+#include <lieservo/groups.hpp>
+#include <lieservo/realtime.hpp>
+#include <lieservo/sampling.hpp>
+#include <lieservo/status.hpp>
+#include <lieservo/units.hpp>

@@ -290,17 +290,19 @@ TEST_CASE("centralised dual arm: refusals and failures leave everything unchange
   auto o = centralisedDualArmPushingPreset<double>(false);
   o.arms.leader.target = G(SO3<double>(), Eigen::Vector3d(0, 100, 800));
   const double nan = std::numeric_limits<double>::quiet_NaN();
+  // A NaN or infinite value: non_finite_input; a finite one out of range: invalid_argument.
   for (double bad : {-1.0, nan, std::numeric_limits<double>::infinity()}) {
+    const Status expected = std::isfinite(bad) ? Status::invalid_argument : Status::non_finite_input;
     auto b = o;
     b.opposition_gain = bad;
-    CHECK(Central::validate(b) == Status::invalid_argument);
+    CHECK(Central::validate(b) == expected);
     b = o;
     b.max_opposition_speed = bad;
-    CHECK(Central::validate(b) == Status::invalid_argument);
+    CHECK(Central::validate(b) == expected);
   }
   auto badArms = o;
   badArms.arms.follower.feedforward[0] = nan;
-  CHECK(Central::validate(badArms) == Status::invalid_argument);
+  CHECK(Central::validate(badArms) == Status::non_finite_input);
   Central central(o, Filter(), Filter());
   auto b = o;
   b.opposition_gain = -1;

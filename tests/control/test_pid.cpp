@@ -213,10 +213,10 @@ TEST_CASE("pid: option validation", "[control][pid]") {
   CHECK(Pid2::validate(bad) == Status::invalid_argument);
   bad = Pid2::Options{};
   bad.output_max[0] = kNaN;
-  CHECK(Pid2::validate(bad) == Status::invalid_argument);
+  CHECK(Pid2::validate(bad) == Status::non_finite_input);
   bad = Pid2::Options{};
   bad.kp(0, 1) = kInf;
-  CHECK(Pid2::validate(bad) == Status::invalid_argument);
+  CHECK(Pid2::validate(bad) == Status::non_finite_input);
   bad = Pid2::Options{};
   bad.smoothing_time_constant = -1;
   CHECK(Pid2::validate(bad) == Status::invalid_argument);

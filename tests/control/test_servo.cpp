@@ -191,10 +191,15 @@ TEST_CASE("servo: non-orthonormal rotations are refused and change nothing", "[c
   CHECK(servo.setReference(bad) == Status::not_orthonormal);
   CHECK(servo.options().reference.matrix() == ref_before.matrix());
 
+  // One bad input, one Status: the options' check says what setReference says.
   o.reference = bad;
-  CHECK(Servo::validate(o) == Status::invalid_argument);
-  CHECK(servo.configure(o) == Status::invalid_argument);
+  CHECK(Servo::validate(o) == Status::not_orthonormal);
+  CHECK(servo.configure(o) == Status::not_orthonormal);
   CHECK(servo.options().reference.matrix() == ref_before.matrix());
-  CHECK(Servo(o).step(good, 0.05, u) == Status::invalid_argument);
+  CHECK(Servo(o).step(good, 0.05, u) == Status::not_orthonormal);
   CHECK(u == u_before);
+  o = servo.options();
+  o.feedforward[2] = std::numeric_limits<double>::quiet_NaN();
+  CHECK(Servo::validate(o) == Status::non_finite_input);
+  CHECK(servo.setFeedforward(o.feedforward) == Status::non_finite_input);
 }

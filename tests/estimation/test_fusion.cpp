@@ -747,7 +747,7 @@ TEST_CASE("fusion: max_iterations is bounded", "[estimation][fusion]") {
   FusionResult<G> r;
   r.iterations = 42;
   o.max_iterations = kMaxFusionIterations + 1;
-  CHECK_FALSE(validFusionOptions(o));
+  CHECK(o.validate() == Status::invalid_argument);
   CHECK(fuse(a, a, o, r) == Status::invalid_argument);
   CHECK(r.iterations == 42);
   o.max_iterations = 1000000;

@@ -64,13 +64,12 @@ class CentralisedDualArmPushing {
     config_status_ = configure(options);
   }
 
-  /// ok, or invalid_argument: invalid controller options, a negative or non-finite gain or
-  /// speed limit.
+  /// ok, or the first reason: the two arms' options (DualArmPushing::validate),
+  /// non_finite_input (a NaN or infinite gain or speed limit), invalid_argument (a negative one).
   static Status validate(const Options& o) noexcept {
-    if (Arms::validate(o.arms) != Status::ok) return Status::invalid_argument;
-    if (!(o.opposition_gain >= Scalar(0)) || !std::isfinite(o.opposition_gain)) return Status::invalid_argument;
-    if (!(o.max_opposition_speed >= Scalar(0)) || !std::isfinite(o.max_opposition_speed))
-      return Status::invalid_argument;
+    if (const Status s = Arms::validate(o.arms); s != Status::ok) return s;
+    if (!std::isfinite(o.opposition_gain) || !std::isfinite(o.max_opposition_speed)) return Status::non_finite_input;
+    if (o.opposition_gain < Scalar(0) || o.max_opposition_speed < Scalar(0)) return Status::invalid_argument;
     return Status::ok;
   }
 
@@ -78,7 +77,7 @@ class CentralisedDualArmPushing {
   Status configure(const Options& options) noexcept {
     const Status s = validate(options);
     if (s != Status::ok) return s;
-    if (arms_.configure(options.arms) != Status::ok) return Status::invalid_argument;
+    if (const Status a = arms_.configure(options.arms); a != Status::ok) return a;
     options_ = options;
     config_status_ = Status::ok;
     return Status::ok;

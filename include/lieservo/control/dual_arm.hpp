@@ -67,18 +67,18 @@ class DualArmPushing {
     config_status_ = configure(options);
   }
 
-  /// ok, or invalid_argument when either controller's options are invalid.
+  /// ok, or the leader's, then the follower's validate() Status.
   static Status validate(const Options& o) noexcept {
-    if (Leader::validate(o.leader) != Status::ok || Follower::validate(o.follower) != Status::ok)
-      return Status::invalid_argument;
-    return Status::ok;
+    if (const Status s = Leader::validate(o.leader); s != Status::ok) return s;
+    return Follower::validate(o.follower);
   }
 
-  /// Replaces both controllers' options (states kept); invalid options change nothing.
+  /// Replaces both controllers' options (states kept); invalid options change nothing and
+  /// return validate()'s Status.
   Status configure(const Options& options) noexcept {
-    if (validate(options) != Status::ok) return Status::invalid_argument;
-    if (leader_.configure(options.leader) != Status::ok) return Status::invalid_argument;
-    if (follower_.configure(options.follower) != Status::ok) return Status::invalid_argument;
+    if (const Status s = validate(options); s != Status::ok) return s;
+    if (const Status s = leader_.configure(options.leader); s != Status::ok) return s;
+    if (const Status s = follower_.configure(options.follower); s != Status::ok) return s;
     config_status_ = Status::ok;
     return Status::ok;
   }

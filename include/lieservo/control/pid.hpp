@@ -104,16 +104,21 @@ class MimoPid {
   /// Checks options: finite gains; clip bounds not NaN with min ≤ max, each range holding a
   /// finite value (±inf allowed as open ends, but not [+inf, +inf] or [−inf, −inf]);
   /// smoothing ∈ (0, 1]; smoothing_time_constant finite and ≥ 0.
+  /// The first reason is returned: non_finite_input for a NaN (or, where a finite value is
+  /// needed, infinite) entry, invalid_argument for a finite value out of its range.
   static Status validate(const Options& o) noexcept {
-    if (!o.kp.allFinite() || !o.ki.allFinite() || !o.kd.allFinite()) return Status::invalid_argument;
+    if (!o.kp.allFinite() || !o.ki.allFinite() || !o.kd.allFinite()) return Status::non_finite_input;
     for (int i = 0; i < N; ++i) {
+      if (std::isnan(o.integral_min[i]) || std::isnan(o.integral_max[i]) || std::isnan(o.output_min[i]) ||
+          std::isnan(o.output_max[i]))
+        return Status::non_finite_input;
       if (!clipRangeValid(o.integral_min[i], o.integral_max[i]) ||
           !clipRangeValid(o.output_min[i], o.output_max[i]))
         return Status::invalid_argument;
     }
+    if (!std::isfinite(o.smoothing) || !std::isfinite(o.smoothing_time_constant)) return Status::non_finite_input;
     if (!(o.smoothing > Scalar(0) && o.smoothing <= Scalar(1))) return Status::invalid_argument;
-    if (!(std::isfinite(o.smoothing_time_constant) && o.smoothing_time_constant >= Scalar(0)))
-      return Status::invalid_argument;
+    if (!(o.smoothing_time_constant >= Scalar(0))) return Status::invalid_argument;
     return Status::ok;
   }
 

@@ -73,14 +73,16 @@ class PushingController {
   PushingController() = default;
   explicit PushingController(const Options& options) { config_status_ = configure(options); }
 
+  /// ok, or the first reason: the servo's and the alignment PID's validate(), non_finite_input
+  /// (a NaN bearing, cut-off or radius; the target's validateElement()), not_orthonormal (the
+  /// target), invalid_argument (a negative cut-off or radius).
   static Status validate(const Options& o) noexcept {
-    if (Servo::validate(o.servo) != Status::ok) return Status::invalid_argument;
-    if (Alignment::validate(o.alignment) != Status::ok) return Status::invalid_argument;
-    if (!std::isfinite(o.reference_bearing) || validateElement(o.target) != Status::ok)
-      return Status::invalid_argument;
-    if (std::isnan(o.alignment_cutoff) || o.alignment_cutoff < Scalar(0)) return Status::invalid_argument;
-    if (std::isnan(o.termination_radius) || o.termination_radius < Scalar(0))
-      return Status::invalid_argument;
+    if (const Status s = Servo::validate(o.servo); s != Status::ok) return s;
+    if (const Status s = Alignment::validate(o.alignment); s != Status::ok) return s;
+    if (!std::isfinite(o.reference_bearing)) return Status::non_finite_input;
+    if (const Status s = validateElement(o.target); s != Status::ok) return s;
+    if (std::isnan(o.alignment_cutoff) || std::isnan(o.termination_radius)) return Status::non_finite_input;
+    if (o.alignment_cutoff < Scalar(0) || o.termination_radius < Scalar(0)) return Status::invalid_argument;
     return Status::ok;
   }
 
@@ -88,8 +90,8 @@ class PushingController {
   Status configure(const Options& options) noexcept {
     const Status s = validate(options);
     if (s != Status::ok) return s;
-    if (servo_.configure(options.servo) != Status::ok) return Status::invalid_argument;
-    if (alignment_.configure(options.alignment) != Status::ok) return Status::invalid_argument;
+    if (const Status c = servo_.configure(options.servo); c != Status::ok) return c;
+    if (const Status c = alignment_.configure(options.alignment); c != Status::ok) return c;
     options_ = options;
     config_status_ = Status::ok;
     return Status::ok;

@@ -52,11 +52,12 @@ class TactileServoController {
   /// Configures with `options`; invalid options make step() return Status::invalid_argument.
   explicit TactileServoController(const Options& options) { config_status_ = configure(options); }
 
-  /// ok, or invalid_argument: a reference that is not a valid element (non-finite or a
-  /// non-orthonormal rotation), a non-finite feedforward, or invalid PID options.
+  /// ok, or the first reason: the reference's validateElement() Status (non_finite_input,
+  /// not_orthonormal), non_finite_input (a NaN or infinite feedforward, as setFeedforward), or
+  /// the PID options' (MimoPid::validate).
   static Status validate(const Options& o) noexcept {
-    if (validateElement(o.reference) != Status::ok || !o.feedforward.allFinite())
-      return Status::invalid_argument;
+    if (const Status s = validateElement(o.reference); s != Status::ok) return s;
+    if (!o.feedforward.allFinite()) return Status::non_finite_input;
     return Pid::validate(o.pid);
   }
 

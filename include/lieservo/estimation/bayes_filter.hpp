@@ -22,12 +22,12 @@
 
 #include <Eigen/Core>
 
-#include "../status.hpp"
-#include "chi_square.hpp"
-#include "concentrated_gaussian.hpp"
-#include "detail/linalg.hpp"
-#include "fusion.hpp"
-#include "jacobian_policy.hpp"
+#include <lieservo/status.hpp>
+#include <lieservo/estimation/chi_square.hpp>
+#include <lieservo/estimation/concentrated_gaussian.hpp>
+#include <lieservo/estimation/detail/linalg.hpp>
+#include <lieservo/estimation/fusion.hpp>
+#include <lieservo/estimation/jacobian_policy.hpp>
 
 namespace lieservo {
 
@@ -90,10 +90,12 @@ class DiscriminativeBayesFilter {
     if (s != Status::ok) options_status_ = s;
   }
 
-  /// ok, or invalid_argument (fusion options out of range, gate_probability ∉ (0,1)),
-  /// non_finite_input / not_spd (process noise).
+  /// ok, or the first reason: the fusion options' (FusionOptions::validate), non_finite_input /
+  /// invalid_argument (gate_probability NaN / outside (0, 1)), non_finite_input / not_spd
+  /// (process noise).
   static Status validate(const Options& o) noexcept {
-    if (!validFusionOptions(o.fusion)) return Status::invalid_argument;
+    if (const Status s = o.fusion.validate(); s != Status::ok) return s;
+    if (std::isnan(o.gate_probability)) return Status::non_finite_input;
     if (!(o.gate_probability > Scalar(0) && o.gate_probability < Scalar(1)))
       return Status::invalid_argument;
     return detail::checkPsd(o.process_noise);

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <limits>
 
-#include "../units.hpp"
+#include <lieservo/units.hpp>
 
 namespace lieservo {
 namespace detail {

@@ -16,11 +16,11 @@
 
 #include <Eigen/Core>
 
-#include "../sampling/random.hpp"
-#include "../status.hpp"
-#include "../units.hpp"
-#include "detail/linalg.hpp"
-#include "jacobian_policy.hpp"
+#include <lieservo/sampling/random.hpp>
+#include <lieservo/status.hpp>
+#include <lieservo/units.hpp>
+#include <lieservo/estimation/detail/linalg.hpp>
+#include <lieservo/estimation/jacobian_policy.hpp>
 
 namespace lieservo {
 

@@ -41,11 +41,11 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 
-#include "../status.hpp"
-#include "../units.hpp"
-#include "concentrated_gaussian.hpp"
-#include "detail/linalg.hpp"
-#include "jacobian_policy.hpp"
+#include <lieservo/status.hpp>
+#include <lieservo/units.hpp>
+#include <lieservo/estimation/concentrated_gaussian.hpp>
+#include <lieservo/estimation/detail/linalg.hpp>
+#include <lieservo/estimation/jacobian_policy.hpp>
 
 namespace lieservo {
 
@@ -84,6 +84,17 @@ struct FusionOptions {
   /// each iteration's solve.
   FusionForm form = FusionForm::information;
 
+  /// ok, or the first reason the options are refused: invalid_argument (max_iterations out of
+  /// [1, kMaxFusionIterations], a negative tolerance, an unknown form), non_finite_input (a
+  /// tolerance that is NaN or infinite).
+  Status validate() const noexcept {
+    if (max_iterations < 1 || max_iterations > kMaxFusionIterations) return Status::invalid_argument;
+    if (!std::isfinite(tolerance)) return Status::non_finite_input;
+    if (tolerance < Scalar(0)) return Status::invalid_argument;
+    if (form != FusionForm::square_root && form != FusionForm::information) return Status::invalid_argument;
+    return Status::ok;
+  }
+
   /// The paper's fusion: exactly 5 updates (Algorithm 3 as the paper runs it).
   static FusionOptions paper() noexcept { return FusionOptions(); }
   /// The converged rule: stop once an update is under `tol` standard deviations, after at most
@@ -96,14 +107,6 @@ struct FusionOptions {
     return o;
   }
 };
-
-/// Whether `o` is a valid FusionOptions: max_iterations in [1, kMaxFusionIterations], tolerance
-/// finite and ≥ 0, form one of the enumerators.
-template <class Scalar>
-bool validFusionOptions(const FusionOptions<Scalar>& o) noexcept {
-  return o.max_iterations >= 1 && o.max_iterations <= kMaxFusionIterations && std::isfinite(o.tolerance) && o.tolerance >= Scalar(0) &&
-         (o.form == FusionForm::square_root || o.form == FusionForm::information);
-}
 
 /// The outcome of fuse().
 template <class G>
@@ -549,8 +552,8 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
 
 /// N-ary fusion (Algorithm 3, alg:se3_data_fusion generalised to `count` factors, 1 ≤ count ≤
 /// kMaxFusionFactors): the operating point starts at factors[0].mean.
-/// Status: ok; invalid_argument (count or options out of range, or two means on the cut
-/// locus: relative rotation within cutLocusMargin() of π); non_finite_input / not_orthonormal /
+/// Status: ok; invalid_argument (count out of range, or two means on the cut locus: relative
+/// rotation within cutLocusMargin() of π); options.validate()'s Status; non_finite_input / not_orthonormal /
 /// not_spd (a factor fails validate()); not_converged (tolerance > 0 not reached within
 /// max_iterations, with require_convergence);
 /// numerical_failure (a non-finite or non-SPD intermediate/result). `result` is written only
@@ -559,7 +562,7 @@ template <class Policy = PaperJacobian, class G>
 Status fuse(const ConcentratedGaussian<G>* factors, int count,
             const FusionOptions<typename G::Scalar>& options, FusionResult<G>& result) noexcept {
   if (factors == nullptr || count < 1 || count > kMaxFusionFactors) return Status::invalid_argument;
-  if (!validFusionOptions(options)) return Status::invalid_argument;
+  if (const Status s = options.validate(); s != Status::ok) return s;
   // Validate each factor and factorise its covariance once (Σ_i = L_i L_iᵀ).
   typename G::Jacobian L[kMaxFusionFactors];
   G means[kMaxFusionFactors];

@@ -9,7 +9,7 @@
 // angle of ε is below π (the principal branch of ln).
 #pragma once
 
-#include "../status.hpp"
+#include <lieservo/status.hpp>
 
 namespace lieservo {
 

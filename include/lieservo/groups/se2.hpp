@@ -6,8 +6,8 @@
 
 #include <Eigen/Core>
 
-#include "detail/coefficients.hpp"
-#include "so2.hpp"
+#include <lieservo/groups/detail/coefficients.hpp>
+#include <lieservo/groups/so2.hpp>
 
 namespace lieservo {
 

@@ -11,7 +11,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "so3.hpp"
+#include <lieservo/groups/so3.hpp>
 
 namespace lieservo {
 

@@ -7,10 +7,10 @@
 
 #include <Eigen/Core>
 
-#include "../status.hpp"
-#include "../units.hpp"
-#include "detail/generic.hpp"
-#include "detail/series.hpp"
+#include <lieservo/status.hpp>
+#include <lieservo/units.hpp>
+#include <lieservo/groups/detail/generic.hpp>
+#include <lieservo/groups/detail/series.hpp>
 
 namespace lieservo {
 

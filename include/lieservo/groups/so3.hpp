@@ -10,12 +10,12 @@
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 
-#include "../detail/finite.hpp"
-#include "../status.hpp"
-#include "../units.hpp"
-#include "detail/coefficients.hpp"
-#include "detail/generic.hpp"
-#include "detail/rotation.hpp"
+#include <lieservo/detail/finite.hpp>
+#include <lieservo/status.hpp>
+#include <lieservo/units.hpp>
+#include <lieservo/groups/detail/coefficients.hpp>
+#include <lieservo/groups/detail/generic.hpp>
+#include <lieservo/groups/detail/rotation.hpp>
 
 namespace lieservo {
 

@@ -37,22 +37,30 @@ struct PipelineOptions {
   SensorMount mount{};               ///< X_ES with p_ES in METRES
   double twist_to_metres = 1e-3;     ///< command translation unit → m (library mm → 1e-3)
   double control_period_s = 1e-3;    ///< the robot's command period (libfranka: 1 ms)
+
+  /// ok, or the first reason: the limits' and the watchdog's validate(), the mount's
+  /// (not_orthonormal, non_finite_input), non_finite_input (a NaN or infinite scale or period),
+  /// invalid_argument (a scale ≤ 0), invalid_time_step (a period the smoother refuses).
+  Status validate() const noexcept {
+    if (const Status s = limits.validate(); s != Status::ok) return s;
+    if (const Status s = watchdog.validate(); s != Status::ok) return s;
+    if (const Status s = mount.validate(); s != Status::ok) return s;
+    if (!std::isfinite(twist_to_metres) || !std::isfinite(control_period_s)) return Status::non_finite_input;
+    if (!(twist_to_metres > 0)) return Status::invalid_argument;
+    if (!VelocitySmoother<double>::validStep(control_period_s)) return Status::invalid_time_step;
+    return Status::ok;
+  }
 };
 
 class CartesianVelocityPipeline {
  public:
   CartesianVelocityPipeline() noexcept { (void)configure(PipelineOptions{}); }
 
-  /// Validate and apply options; resets the smoother (to rest) and the watchdog.
-  /// Not real-time safe to call while the loop runs (call it before starting the loop).
+  /// Validate (PipelineOptions::validate) and apply options; resets the smoother (to rest)
+  /// and the watchdog. Not real-time safe to call while the loop runs (call it before starting
+  /// the loop). Invalid options: the Status says why and nothing changes.
   Status configure(const PipelineOptions& o) noexcept {
-    if (!o.limits.valid() || !o.watchdog.valid()) return Status::invalid_argument;
-    const Status m = o.mount.validate();
-    if (m != Status::ok) return m;
-    if (!std::isfinite(o.twist_to_metres) || !std::isfinite(o.control_period_s))
-      return Status::non_finite_input;
-    if (!(o.twist_to_metres > 0)) return Status::invalid_argument;
-    if (!VelocitySmoother<double>::validStep(o.control_period_s)) return Status::invalid_time_step;
+    if (const Status s = o.validate(); s != Status::ok) return s;
     options_ = o;
     (void)smoother_.configure(o.limits);
     smoother_.reset();

@@ -55,9 +55,14 @@ struct AxisLimits {
   Scalar velocity;
   Scalar acceleration;
   Scalar jerk;
-  bool valid() const noexcept {
-    const auto inRange = [](Scalar x) { return x >= Scalar(1e-9) && x <= Scalar(1e9); };  // false for NaN
-    return inRange(velocity) && inRange(acceleration) && inRange(jerk) && acceleration <= Scalar(1e3) * jerk;
+  /// ok, non_finite_input (a NaN or infinite limit) or invalid_argument (outside the bounds).
+  Status validate() const noexcept {
+    if (!std::isfinite(velocity) || !std::isfinite(acceleration) || !std::isfinite(jerk))
+      return Status::non_finite_input;
+    const auto inRange = [](Scalar x) { return x >= Scalar(1e-9) && x <= Scalar(1e9); };
+    if (!inRange(velocity) || !inRange(acceleration) || !inRange(jerk) || !(acceleration <= Scalar(1e3) * jerk))
+      return Status::invalid_argument;
+    return Status::ok;
   }
 };
 
@@ -72,7 +77,11 @@ struct SmootherLimits {
   AxisLimits<Scalar> translation{Scalar(0.25), Scalar(2.5), Scalar(250)};
   AxisLimits<Scalar> rotation{Scalar(0.8), Scalar(5), Scalar(500)};
 
-  bool valid() const noexcept { return translation.valid() && rotation.valid(); }
+  /// ok, or the first axis's AxisLimits::validate() Status (translation, then rotation).
+  Status validate() const noexcept {
+    const Status s = translation.validate();
+    return s != Status::ok ? s : rotation.validate();
+  }
 
   /// libfranka's documented Cartesian limits for the end effector (m, rad, s):
   /// translation 1.7 m/s, 13 m/s², 6500 m/s³; rotation 2.5 rad/s, 25 rad/s², 12500 rad/s³.
@@ -251,10 +260,8 @@ class VelocitySmoother {
 
   using Options = Limits;  ///< the smoother's options are its limits
 
-  /// ok when `limits` is valid (SmootherLimits::valid), else invalid_argument.
-  static Status validate(const Options& limits) noexcept {
-    return limits.valid() ? Status::ok : Status::invalid_argument;
-  }
+  /// The limits' own check (SmootherLimits::validate).
+  static Status validate(const Options& limits) noexcept { return limits.validate(); }
   /// Set the limits; invalid → validate()'s Status, the smoother unchanged. Lowering limits
   /// while moving is allowed, but the bounds are then only guaranteed once the state has come
   /// back inside the new limits (reset() first to be safe).

@@ -40,8 +40,12 @@ struct WatchdogOptions {
   bool stop_on_contact_loss = true;
   bool latch_contact_loss = true;   ///< contact-loss stop needs rearm()
 
-  bool valid() const noexcept {
-    return std::isfinite(command_timeout_s) && command_timeout_s > 0 && rearm_fresh_commands >= 1;
+  /// ok, non_finite_input (a NaN or infinite timeout) or invalid_argument (a timeout ≤ 0,
+  /// fewer than one fresh command to rearm).
+  Status validate() const noexcept {
+    if (!std::isfinite(command_timeout_s)) return Status::non_finite_input;
+    if (!(command_timeout_s > 0) || rearm_fresh_commands < 1) return Status::invalid_argument;
+    return Status::ok;
   }
 };
 
@@ -68,9 +72,9 @@ class CommandWatchdog {
  public:
   CommandWatchdog() noexcept = default;
 
-  /// Invalid options → Status::invalid_argument (unchanged). Resets to `waiting`.
+  /// Invalid options → WatchdogOptions::validate()'s Status (unchanged). Resets to `waiting`.
   Status configure(const WatchdogOptions& options) noexcept {
-    if (!options.valid()) return Status::invalid_argument;
+    if (const Status s = options.validate(); s != Status::ok) return s;
     options_ = options;
     rearm();
     return Status::ok;

@@ -9,9 +9,9 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
-#include "../../detail/finite.hpp"
-#include "../../groups/perturbation.hpp"
-#include "../../status.hpp"
+#include <lieservo/detail/finite.hpp>
+#include <lieservo/groups/perturbation.hpp>
+#include <lieservo/status.hpp>
 
 namespace lieservo {
 namespace detail {

@@ -15,7 +15,7 @@
 #include <cmath>
 #include <type_traits>
 
-#include "series.hpp"
+#include <lieservo/groups/detail/series.hpp>
 
 namespace lieservo {
 namespace detail {

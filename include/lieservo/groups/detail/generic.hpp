@@ -7,7 +7,7 @@
 
 #include <Eigen/Core>
 
-#include "series.hpp"
+#include <lieservo/groups/detail/series.hpp>
 
 namespace lieservo {
 namespace detail {

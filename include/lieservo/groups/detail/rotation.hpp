@@ -11,8 +11,8 @@
 #include <emmintrin.h>
 #endif
 
-#include "../../units.hpp"
-#include "coefficients.hpp"
+#include <lieservo/units.hpp>
+#include <lieservo/groups/detail/coefficients.hpp>
 
 namespace lieservo {
 namespace detail {
