@@ -321,7 +321,7 @@ TEST_CASE("filter: chi-square gating rejects outliers", "[estimation][filter][ga
       o.mean = G::exp(d) * o.mean;
       ++outliers;
     }
-    const auto bel_expected = transform(gated.filtered(), s.inverse() * gated.sensorPose(),
+    const auto bel_expected = transformUnchecked(gated.filtered(), s.inverse() * gated.sensorPose(),
                                         gated.options().process_noise);
     const Status st = gated.step(s, o);
     REQUIRE((st == Status::ok || st == Status::outlier_rejected));

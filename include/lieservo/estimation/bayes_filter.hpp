@@ -145,6 +145,9 @@ class DiscriminativeBayesFilter {
 
   /// Prediction only (eq. 12, eqn:bayes_filter_prediction) with an explicit T̄: belief = T̄·filtered
   /// (+Σφ), and filtered ← belief (no observation yet). The stored sensor pose is unchanged.
+  /// T̄ maps the feature's pose in the previous sensor frame to the new one: for sensor poses
+  /// X_{k−1} and X_k in the world, T̄ = X_k⁻¹ X_{k−1} (as step() forms it), the INVERSE of the
+  /// sensor's odometry increment X_{k−1}⁻¹ X_k.
   Status predict(const G& T_bar) noexcept {
     if (options_status_ != Status::ok) return diag_.last_status = options_status_;
     if (!initialised_) return diag_.last_status = Status::not_initialised;
@@ -221,7 +224,7 @@ class DiscriminativeBayesFilter {
   // factorised once per step and its Cholesky factor handed on to the fusion.
   Status predictInto(const Gaussian& fil, const G& T_bar, Gaussian& bel,
                      Jacobian& L_bel) const noexcept {
-    Gaussian r = transform(fil, T_bar, options_.process_noise);  // eq. 12 (eqn:bayes_filter_prediction)
+    Gaussian r = transformUnchecked(fil, T_bar, options_.process_noise);  // eq. 12 (eqn:bayes_filter_prediction)
     r.mean.normalize();
     if (!r.mean.allFinite() || !detail::allFinite(r.covariance))
       return Status::numerical_failure;

@@ -74,10 +74,11 @@ Status ConcentratedGaussian<G>::validate() const noexcept {
 /// Probabilistic transformation X' = T X with T = exp(φ^) T̄, φ ~ N(0, Σφ) independent of X
 /// (eq. 41, eqn:se3_rv_probabilistic_transform_2, first order in the covariances):
 ///     X̄' = T̄ X̄,    Σ' = Ad(T̄) Σ Ad(T̄)ᵀ + Σφ.
-/// Unchecked; the result covariance is symmetrised.
+/// Unchecked (the caller guarantees valid inputs; transform() checks them); the result
+/// covariance is symmetrised.
 template <class G>
-ConcentratedGaussian<G> transform(const ConcentratedGaussian<G>& x, const G& T_bar,
-                                  const typename G::Jacobian& Sigma_phi) noexcept {
+ConcentratedGaussian<G> transformUnchecked(const ConcentratedGaussian<G>& x, const G& T_bar,
+                                           const typename G::Jacobian& Sigma_phi) noexcept {
   const typename G::Jacobian Ad = T_bar.Ad();
   ConcentratedGaussian<G> out;
   out.mean = T_bar * x.mean;
@@ -99,7 +100,7 @@ Status transform(const ConcentratedGaussian<G>& x, const G& T_bar,
   if (s != Status::ok) return s;
   s = detail::checkPsd(Sigma_phi);
   if (s != Status::ok) return s;
-  ConcentratedGaussian<G> r = transform(x, T_bar, Sigma_phi);
+  ConcentratedGaussian<G> r = transformUnchecked(x, T_bar, Sigma_phi);
   r.mean.normalize();
   if (!r.mean.allFinite() || !r.covariance.allFinite()) return Status::numerical_failure;
   if (detail::repairSpd(r.covariance) != Status::ok) return Status::numerical_failure;
