@@ -14,20 +14,14 @@ rm -rf "$work"
 mkdir -p "$work"
 fails=0
 
-# expect STATUS PATTERN -- COMMAND...: COMMAND exits STATUS, its output contains PATTERN.
+# expect STATUS PATTERN -- COMMAND...: COMMAND exits STATUS, its output contains PATTERN
+# (tests/support/expect_exit.sh).
+checker="$(dirname "$0")/../support/expect_exit.sh"
 expect() {
   want=$1
   pattern=$2
   shift 3
-  "$@" >"$work/out.txt" 2>&1
-  rc=$?
-  if [ "$rc" -ne "$want" ]; then
-    echo "FAILED: $* exited $rc, expected $want"; tail -3 "$work/out.txt"; fails=$((fails + 1)); return
-  fi
-  if ! grep -qF -- "$pattern" "$work/out.txt"; then
-    echo "FAILED: $*: no '$pattern' in its output"; tail -3 "$work/out.txt"; fails=$((fails + 1)); return
-  fi
-  echo "ok: $* -> $rc ($pattern)"
+  sh "$checker" "$want" "$pattern" "$@" || fails=$((fails + 1))
 }
 
 expect 2 "--trials" -- "$demo" --trials 1000000000 --no-files

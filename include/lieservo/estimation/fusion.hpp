@@ -433,6 +433,9 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
   int it = 0;
   bool converged = false;
   while (it < options.max_iterations) {
+    // The step's length in standard deviations: for the converged rule at every update, for
+    // the fixed count only at the last (FusionResult::step_sigmas).
+    const bool measure = options.tolerance > Scalar(0) || it + 1 == options.max_iterations;
     if (information_form) {
       H.setZero();
       g.setZero();
@@ -488,7 +491,7 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
         return fuseFactored<Policy>(means, L, count, sqrt_options, result, second);
       }
       mu.noalias() = -(Hinv * g);
-      step_sigmas = std::sqrt(std::max(Scalar(0), mu.dot(H * mu)));  // √(μᵀ H μ)
+      if (measure) step_sigmas = std::sqrt(std::max(Scalar(0), mu.dot(H * mu)));  // √(μᵀ H μ)
     } else {
       info.compress();
       R = info.R();
@@ -497,7 +500,7 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
       // = −(RᵀR)⁻¹ Rᵀc = −R⁻¹ c
       mu = -info.c();
       upperSolveInPlace(R, mu);
-      step_sigmas = (R.template triangularView<Eigen::Upper>() * mu).norm();  // ‖R μ‖ = √(μᵀ RᵀR μ)
+      if (measure) step_sigmas = (R.template triangularView<Eigen::Upper>() * mu).norm();  // ‖R μ‖ = √(μᵀ RᵀR μ)
     }
     if (!allFinite(mu)) return Status::numerical_failure;
     X = G::exp(mu) * X;  // eq. 54 (eqn:se3_normalised_prod_update)
