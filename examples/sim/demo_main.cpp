@@ -142,11 +142,11 @@ static int run(int argc, char** argv) {
   app.add_option("--out", opt.out_dir, "results folder")->capture_default_str();
   app.add_option("--seed", opt.seed, "base seed")->capture_default_str()->check(
       cli::integerIn<std::uint64_t>(0, 1000000000000000));  // trial seeds are seed · 1000 + i + 1
-  app.add_option("--trials", trials, "pushing trials per object and surface (the paper: 5)")
+  auto* trials_option = app.add_option("--trials", trials, "pushing trials per object and surface (the paper: 5)")
       ->capture_default_str()
       ->check(cli::integerIn(1, 100));
   app.add_option("--rate", opt.control_rate, "tactile control rate (Hz)")->capture_default_str()->check(cli::finiteIn(1, 1000));
-  app.add_flag("--quick", quick, "shortened runs (duration scale 0.3, 2 trials)");
+  app.add_flag("--quick", quick, "shortened runs (duration scale 0.3; 2 trials unless --trials is given)");
   app.add_flag("--no-files", no_files, "do not write plots and logs");
   app.add_option("--observations", observations,
                  "'real': the card's GDN on the nearest labelled TacTip image it did not train on; 'gaussian': "
@@ -170,7 +170,10 @@ static int run(int argc, char** argv) {
                "draw the assumed physical parameters (mu_s, mu_c, gel stiffness) per pushing trial from their "
                "ranges (docs/simulation.md, \"What is assumed\")");
   if (const int status = cli::parse(app, argc, argv); status >= 0) return status;
-  if (quick) opt.duration_scale = 0.3, trials = 2;
+  if (quick) {
+    opt.duration_scale = 0.3;
+    if (trials_option->count() == 0) trials = 2;
+  }
   if (no_files) opt.out_dir.clear();
   const bool model_card_given = card_option->count() > 0;
   if (calibration == "card") {

@@ -1,6 +1,6 @@
 #!/bin/sh
 # demo.quick: runs the shortened main job (lieservo_demo --quick --trials 1) into OUT_DIR and
-# checks what a user opens: exit status 0 (every task met its criteria; 1, a missed criterion,
+# checks what a user opens: one trial per case, exit status 0 (every task met its criteria; 1, a missed criterion,
 # fails the test like a set-up error, 2, or a sanitizer's abort), and OUT_DIR/index.html
 # embedding every figure written (SVG, PNG; none empty) and linking every CSV log.
 # Usage: run_demo_quick.sh LIESERVO_DEMO OUT_DIR
@@ -8,9 +8,13 @@ set -u
 demo=$1
 out=$2
 rm -rf "$out"
-"$demo" --quick --trials 1 --out "$out"
+mkdir -p "$out"
+"$demo" --quick --trials 1 --out "$out" >"$out/stdout.txt" 2>&1
 rc=$?
+cat "$out/stdout.txt"
 if [ "$rc" -ne 0 ]; then echo "demo.quick: lieservo_demo exited with $rc"; exit 1; fi
+# --trials given beside --quick is kept (--quick alone means 2).
+grep -q "x 1 trials" "$out/stdout.txt" || { echo "demo.quick: --trials 1 was not kept beside --quick"; exit 1; }
 page="$out/index.html"
 [ -s "$page" ] || { echo "demo.quick: no $page"; exit 1; }
 figures=0
