@@ -448,6 +448,41 @@ TEST_CASE("mujoco: uniform-pressure radius of each base outline", "[sim][mujoco]
   }
 }
 
+TEST_CASE("mujoco: every object stands on 12 base points with the uniform-pressure mean radius, its outline among them",
+          "[sim][mujoco][base]") {
+  // The cost of a push grows with the base points (three constraint rows each), so the count is
+  // fixed; the points' mean radius sets the breakaway torque over force (exact), the outline's
+  // vertices the tipping edges, and their second moment the tilt stiffness (within 30 % of
+  // the area's, as the Winkler test's bound).
+  std::vector<ObjectSpec> objects = lieservo::sim::shortObjects();
+  for (const ObjectSpec& o : lieservo::sim::tallAndEverydayObjects()) objects.push_back(o);
+  for (const ObjectSpec& o : objects) {
+    INFO(o.name);
+    const std::vector<Vec2> p = basePoints(o);
+    REQUIRE(p.size() == 12);
+    double mean = 0, xx = 0, yy = 0;
+    for (const Vec2& q : p) mean += q.norm() / 12, xx += q.x() * q.x() / 12, yy += q.y() * q.y() / 12;
+    CHECK(mean == Approx(uniformPressureRadius(o)).epsilon(1e-12));
+    double reach = 0;  // the outline: the farthest points lie on it
+    for (const Vec2& q : p) reach = std::max(reach, q.norm());
+    for (const Vec2& v : footprint(o)) {
+      if (o.shape == "circle") break;
+      bool found = false;
+      for (const Vec2& q : p) found = found || (q - v).norm() < 1e-9;
+      CHECK(found);
+    }
+    if (o.shape == "circle") CHECK(reach == Approx(o.size).epsilon(1e-12));
+    // The area's second moments per unit area: a rectangle a²/12 and b²/12, a disc R²/4, the
+    // regular hexagon (circumradius R) 5R²/24 about either axis.
+    const double a = o.size, b = o.shape == "rectangle" ? o.size2 : o.size;
+    double ixx = a * a / 12, iyy = b * b / 12;
+    if (o.shape == "circle") ixx = iyy = a * a / 4;
+    if (o.shape == "hexagon") ixx = iyy = 5 * a * a / 24;
+    CHECK(xx / ixx == Approx(1.0).margin(0.30));
+    CHECK(yy / iyy == Approx(1.0).margin(0.30));
+  }
+}
+
 namespace {
 // The force (N) along +x at the base, or the torque (N·m) about the vertical axis, ramped from
 // 0 to `top` in 8 s, at which the base first slides faster than 0.2 mm/s: at its centre, or

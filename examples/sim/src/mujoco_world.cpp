@@ -379,25 +379,29 @@ double uniformPressureRadius(const ObjectSpec& o) {
 }
 
 std::vector<Vec2> basePoints(const ObjectSpec& o) {
-  // The outer ring: a polygon's vertices and edge midpoints (8 for a rectangle, 12 for the
-  // hexagon), 8 points on a circle's rim (one on +x).
-  std::vector<Vec2> ring;
+  // The outline: a polygon's vertices, six points on a circle's rim (one on +x). The inner
+  // ring: the outline again, for a rectangle with its edge midpoints (eight points, so that the
+  // base's second moment stays near the area's: its four corners alone would put it 50 %
+  // above), scaled so that all points' mean distance from the axis is the uniform-pressure
+  // radius. Every base point costs three constraint rows in each step.
+  std::vector<Vec2> outline, inner;
   if (o.shape == "circle") {
-    for (int k = 0; k < 8; ++k) ring.emplace_back(o.size * std::cos(kPi * k / 4), o.size * std::sin(kPi * k / 4));
+    for (int k = 0; k < 6; ++k) outline.emplace_back(o.size * std::cos(kPi * k / 3), o.size * std::sin(kPi * k / 3));
+    inner = outline;
   } else {
-    const std::vector<Vec2> v = footprint(o);
-    for (std::size_t i = 0; i < v.size(); ++i) {
-      ring.push_back(v[i]);
-      ring.push_back(0.5 * (v[i] + v[(i + 1) % v.size()]));
+    outline = footprint(o);
+    for (std::size_t i = 0; i < outline.size(); ++i) {
+      inner.push_back(outline[i]);
+      if (outline.size() == 4) inner.push_back(0.5 * (outline[i] + outline[(i + 1) % outline.size()]));
     }
   }
-  double mean = 0;
-  for (const Vec2& p : ring) mean += p.norm();
-  mean /= double(ring.size());
-  // Equal loads: the mean distance of both rings is (1 + λ) mean / 2 = uniformPressureRadius.
-  const double lambda = 2 * uniformPressureRadius(o) / mean - 1;
-  std::vector<Vec2> points = ring;
-  for (const Vec2& p : ring) points.push_back(lambda * p);
+  double sum_outline = 0, sum_inner = 0;
+  for (const Vec2& p : outline) sum_outline += p.norm();
+  for (const Vec2& p : inner) sum_inner += p.norm();
+  const double n = double(outline.size() + inner.size());
+  const double lambda = (n * uniformPressureRadius(o) - sum_outline) / sum_inner;
+  std::vector<Vec2> points = outline;
+  for (const Vec2& p : inner) points.push_back(lambda * p);
   return points;
 }
 

@@ -244,10 +244,11 @@ double baseArea(const ObjectSpec& object);
 /// side a, 2R/3 for a disc; exact for the polygons).
 double uniformPressureRadius(const ObjectSpec& object);
 /// The points (object frame, mm, on the base plane) at which the object touches the support:
-/// two rings of equally loaded points, the outline (polygon vertices and edge midpoints; 12
-/// points on a circle's rim, one on +x) and the same ring scaled by λ, with λ chosen so that
-/// the points' mean distance from the axis is uniformPressureRadius(): the base turns and
-/// slides as a uniformly pressed flat base does, and tips about its true outline.
+/// 12 equally loaded points in two rings, the outline (a polygon's vertices; 6 points on a
+/// circle's rim, one on +x) and an inner ring (the outline again; a rectangle's with its edge
+/// midpoints) scaled by λ, with λ chosen so that the points' mean distance from the axis is
+/// uniformPressureRadius(): the base turns and slides as a uniformly pressed flat base does,
+/// and tips about its true outline.
 std::vector<Vec2> basePoints(const ObjectSpec& object);
 /// Distance from the object's axis to its side face along +x_o (mm): where a push along −x_o
 /// meets it.
