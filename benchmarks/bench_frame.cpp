@@ -1,0 +1,206 @@
+// The whole tactile frame, stage by stage, on one thread (docs/performance.md, "The whole
+// tactile frame"): what one camera frame costs from the image to the robot command.
+//
+//   raw 640x480 frame -> Preprocessor::processRaw (crop, median, adaptive threshold, mask,
+//   128x128, [0, 1]) -> the deployed GDN (ONNX, OpenCV dnn) -> toObservation (eq. 14,
+//   eq:se3_inverse_transform) -> DiscriminativeBayesFilter::step (Algorithm 2, alg:se3_bayes_filter)
+//   -> TactileServoController::step (eq. 18, eq:pid_control_law) -> one 1 ms cycle of
+//   realtime::CartesianVelocityPipeline (on hardware its own 1 kHz thread runs it 50 times per
+//   20 Hz frame).
+//
+// The image: val/processed_images/image_1.png of the shared TacTip data set, placed into its
+// camera frame's crop box (the data set holds processed images only); without the data set a
+// drawn pin pattern of the same size (the GDN's time does not depend on what it sees). The
+// benchmark's context says which. benchmarks/frame_report.py runs it beside the same network's
+// forward pass in PyTorch and prints each stage's share and the frame rate the loop sustains.
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <lieservo/lieservo.hpp>
+#include "lieservo_adapters/gdn_observation.hpp"
+#include "lieservo_adapters/onnx_pose_model.hpp"
+#include "lieservo_adapters/preprocessing.hpp"
+
+namespace {
+
+using namespace lieservo;
+namespace ad = lieservo::adapters;
+
+struct Frame {
+  ad::Preprocessor pre;
+  std::unique_ptr<ad::OnnxPoseModel> gdn;
+  cv::Mat raw;            // the camera frame
+  cv::Mat input;          // the network input it gives
+  ad::Prediction prediction;
+  ConcentratedGaussian<SE3d> observation;
+  std::string image_source;
+};
+
+Frame& frame() {
+  static Frame f;
+  return f;
+}
+
+// A TacTip-like camera frame: bright pins on a dark disc, inside the crop box.
+cv::Mat drawnFrame(const ad::PreprocessParams& p) {
+  cv::Mat raw(p.raw_size, CV_8UC1, cv::Scalar(40));
+  const cv::Point c(p.bbox.x + p.bbox.width / 2, p.bbox.y + p.bbox.height / 2);
+  for (int y = -220; y <= 220; y += 22)
+    for (int x = -220; x <= 220; x += 22)
+      if (x * x + y * y < 220 * 220) cv::circle(raw, c + cv::Point(x, y), 6, cv::Scalar(200), cv::FILLED);
+  return raw;
+}
+
+void setUp() {
+  Frame& f = frame();
+  const std::string image = std::string(LIESERVO_DATA_DIR) + "/val/processed_images/image_1.png";
+  const cv::Mat processed = cv::imread(image, cv::IMREAD_GRAYSCALE);
+  const ad::PreprocessParams& p = f.pre.params();
+  if (!processed.empty() && processed.size() == p.processedSize()) {
+    f.raw = cv::Mat(p.raw_size, CV_8UC1, cv::Scalar(0));
+    processed.copyTo(f.raw(p.bbox));
+    f.image_source = image + " in its camera frame's crop box";
+  } else {
+    f.raw = drawnFrame(p);
+    f.image_source = "a drawn pin pattern (" + image + " is not there)";
+  }
+  f.gdn = std::make_unique<ad::OnnxPoseModel>(ad::OnnxPoseModel::fromCard(
+      std::string(LIESERVO_SOURCE_DIR) + "/examples/gdn/models/train_val/model_card.json", ad::ModelKind::gdn));
+  if (f.pre.processRaw(f.raw, f.input) != Status::ok || f.gdn->predict(f.input, f.prediction) != Status::ok ||
+      ad::toObservation(f.prediction, f.observation) != Status::ok) {
+    std::fprintf(stderr, "bench_frame: the frame does not go through: %s %s\n", f.pre.lastError().c_str(),
+                 f.gdn->lastError().c_str());
+    std::exit(2);
+  }
+}
+
+void BM_FramePreprocess(benchmark::State& state) {
+  Frame& f = frame();
+  cv::Mat input;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(f.pre.processRaw(f.raw, input));
+    benchmark::ClobberMemory();
+  }
+}
+BENCHMARK(BM_FramePreprocess)->Unit(benchmark::kMicrosecond);
+
+void BM_FrameGdn(benchmark::State& state) {
+  Frame& f = frame();
+  ad::Prediction p;
+  for (auto _ : state) benchmark::DoNotOptimize(f.gdn->predict(f.input, p));
+}
+BENCHMARK(BM_FrameGdn)->Unit(benchmark::kMicrosecond);
+
+void BM_FrameObservation(benchmark::State& state) {
+  Frame& f = frame();
+  ConcentratedGaussian<SE3d> g;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(ad::toObservation(f.prediction, g));
+    benchmark::DoNotOptimize(g);
+  }
+}
+BENCHMARK(BM_FrameObservation)->Unit(benchmark::kMicrosecond);
+
+// The robot moves 0.5 mm and 0.1° between frames, as in a slow servo.
+SE3d robotStep(int k) {
+  SE3d::Tangent xi;
+  xi << 0.5, 0.0, 0.0, 0.0, 0.0, 1.745e-3;
+  return SE3d::exp(double(k % 50) * xi);
+}
+
+void BM_FrameFilter(benchmark::State& state) {
+  Frame& f = frame();
+  DiscriminativeBayesFilter<SE3d> filter;
+  (void)filter.step(SE3d(), f.observation);  // the first step initialises
+  int k = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(filter.step(robotStep(++k), f.observation));
+}
+BENCHMARK(BM_FrameFilter)->Unit(benchmark::kMicrosecond);
+
+void BM_FrameController(benchmark::State& state) {
+  Frame& f = frame();
+  TactileServoController<SE3d> servo(surfaceFollowingPreset<double>());
+  SE3d::Tangent u;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(servo.step(f.observation.mean, 0.05, u));
+    benchmark::DoNotOptimize(u);
+  }
+}
+BENCHMARK(BM_FrameController)->Unit(benchmark::kMicrosecond);
+
+// One 1 ms cycle of the real-time pipeline with a fresh command: watchdog, sensor twist to
+// the base frame, jerk-limited smoothing.
+void BM_FramePipeline(benchmark::State& state) {
+  realtime::CartesianVelocityPipeline pipeline;
+  realtime::TwistCommand cmd;
+  cmd.twist_s = {1.0, 0.0, 0.0, 0.0, 0.0, 0.01};
+  cmd.in_contact = true;
+  const Eigen::Matrix4d T_OE = Eigen::Matrix4d::Identity();
+  std::array<double, 6> out{};
+  std::int64_t now = 0;
+  std::uint64_t sequence = 0;
+  for (auto _ : state) {
+    now += 1000000;
+    benchmark::DoNotOptimize(pipeline.step(T_OE, cmd, realtime::ChannelStamp{++sequence, now}, now, out));
+    benchmark::DoNotOptimize(out);
+  }
+}
+BENCHMARK(BM_FramePipeline)->Unit(benchmark::kMicrosecond);
+
+// Everything above in sequence, as the tactile thread runs it for one frame (with the
+// pipeline's cycle that takes the frame's command).
+void BM_FrameWhole(benchmark::State& state) {
+  Frame& f = frame();
+  DiscriminativeBayesFilter<SE3d> filter;
+  TactileServoController<SE3d> servo(surfaceFollowingPreset<double>());
+  realtime::CartesianVelocityPipeline pipeline;
+  const Eigen::Matrix4d T_OE = Eigen::Matrix4d::Identity();
+  cv::Mat input;
+  ad::Prediction p;
+  ConcentratedGaussian<SE3d> g;
+  SE3d::Tangent u;
+  realtime::TwistCommand cmd;
+  std::array<double, 6> out{};
+  std::int64_t now = 0;
+  std::uint64_t sequence = 0;
+  int k = 0;
+  for (auto _ : state) {
+    Status s = f.pre.processRaw(f.raw, input);
+    if (s == Status::ok) s = f.gdn->predict(input, p);
+    if (s == Status::ok) s = ad::toObservation(p, g);
+    if (s == Status::ok) s = filter.step(robotStep(++k), g);
+    if (s == Status::ok) s = servo.step(filter.filtered().mean, 0.05, u);
+    if (s != Status::ok) {
+      state.SkipWithError("a stage failed");
+      break;
+    }
+    for (int j = 0; j < 6; ++j) cmd.twist_s[std::size_t(j)] = u[j];
+    cmd.in_contact = true;
+    now += 1000000;
+    benchmark::DoNotOptimize(pipeline.step(T_OE, cmd, realtime::ChannelStamp{++sequence, now}, now, out));
+    benchmark::DoNotOptimize(out);
+  }
+}
+BENCHMARK(BM_FrameWhole)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  cv::setNumThreads(1);  // one thread: the tactile thread's budget
+  setUp();
+  benchmark::AddCustomContext("frame_image", frame().image_source);
+  benchmark::AddCustomContext("frame_model", "examples/gdn/models/train_val/model_card.json (the deployed GDN)");
+  benchmark::AddCustomContext("frame_threads", "1 (cv::setNumThreads(1))");
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
