@@ -1,22 +1,17 @@
-// examples/collection/image_io.hpp — 8-bit grayscale images, a PNG encoder, atomic file writes.
-//
-// The encoder is self-contained (no OpenCV): deflate via zlib when LIESERVO_COLLECT_HAVE_ZLIB
-// is defined, otherwise uncompressed ("stored") deflate blocks — valid PNG either way, and
-// byte-for-byte deterministic for a given image.
+// examples/collection/image_io.hpp — 8-bit grayscale images, PNG encoding (libpng), atomic
+// file writes.
 #pragma once
 
 #include <lieservo_dataset/json.hpp>  // DatasetError
 
-#include <array>
+#include <png.h>
+
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
 
-#if defined(LIESERVO_COLLECT_HAVE_ZLIB)
-#include <zlib.h>
-#endif
 #if defined(__unix__) || defined(__APPLE__)
 #include <fcntl.h>
 #include <unistd.h>
@@ -43,91 +38,45 @@ struct GrayImage {
   }
 };
 
-namespace detail {
-
-inline std::uint32_t crc32(const std::uint8_t* data, std::size_t n, std::uint32_t crc = 0) {
-  static const std::array<std::uint32_t, 256> table = [] {
-    std::array<std::uint32_t, 256> t{};
-    for (std::uint32_t i = 0; i < 256; ++i) {
-      std::uint32_t c = i;
-      for (int k = 0; k < 8; ++k) c = (c & 1U) ? 0xEDB88320U ^ (c >> 1) : c >> 1;
-      t[i] = c;
-    }
-    return t;
-  }();
-  crc = ~crc;
-  for (std::size_t i = 0; i < n; ++i) crc = table[(crc ^ data[i]) & 0xFFU] ^ (crc >> 8);
-  return ~crc;
-}
-
-inline void putBe32(std::vector<std::uint8_t>& out, std::uint32_t v) {
-  out.push_back(static_cast<std::uint8_t>(v >> 24));
-  out.push_back(static_cast<std::uint8_t>(v >> 16));
-  out.push_back(static_cast<std::uint8_t>(v >> 8));
-  out.push_back(static_cast<std::uint8_t>(v));
-}
-
-inline void putChunk(std::vector<std::uint8_t>& out, const char type[5], const std::vector<std::uint8_t>& data) {
-  putBe32(out, static_cast<std::uint32_t>(data.size()));
-  const std::size_t start = out.size();
-  out.insert(out.end(), type, type + 4);
-  out.insert(out.end(), data.begin(), data.end());
-  putBe32(out, crc32(out.data() + start, out.size() - start));
-}
-
-inline std::vector<std::uint8_t> zlibStream(const std::vector<std::uint8_t>& raw) {
-#if defined(LIESERVO_COLLECT_HAVE_ZLIB)
-  uLongf n = compressBound(static_cast<uLong>(raw.size()));
-  std::vector<std::uint8_t> out(n);
-  if (compress2(out.data(), &n, raw.data(), static_cast<uLong>(raw.size()), 6) != Z_OK) {
-    throw DatasetError("PNG encoder: zlib compress2 failed");
-  }
-  out.resize(n);
-  return out;
-#else
-  std::vector<std::uint8_t> out = {0x78, 0x01};  // zlib header, no compression
-  std::size_t pos = 0;
-  do {
-    const std::size_t len = raw.size() - pos < 65535 ? raw.size() - pos : 65535;
-    out.push_back(pos + len == raw.size() ? 1 : 0);  // BFINAL, BTYPE = 00 (stored)
-    out.push_back(static_cast<std::uint8_t>(len));
-    out.push_back(static_cast<std::uint8_t>(len >> 8));
-    out.push_back(static_cast<std::uint8_t>(~len));
-    out.push_back(static_cast<std::uint8_t>(~len >> 8));
-    out.insert(out.end(), raw.begin() + static_cast<std::ptrdiff_t>(pos),
-               raw.begin() + static_cast<std::ptrdiff_t>(pos + len));
-    pos += len;
-  } while (pos < raw.size());
-  std::uint32_t a = 1, b = 0;  // Adler-32
-  for (const std::uint8_t c : raw) {
-    a = (a + c) % 65521U;
-    b = (b + a) % 65521U;
-  }
-  putBe32(out, (b << 16) | a);
-  return out;
-#endif
-}
-
-}  // namespace detail
-
-/// PNG bytes of an 8-bit grayscale image (colour type 0, no filtering, no interlace).
+/// PNG bytes of an 8-bit grayscale image, by libpng's simplified API (deterministic for a
+/// given image). Throws DatasetError for an invalid image or a libpng failure.
 inline std::vector<std::uint8_t> encodePngGray8(const GrayImage& img) {
   if (!img.valid()) throw DatasetError("PNG encoder: invalid image size");
-  std::vector<std::uint8_t> out = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
-  std::vector<std::uint8_t> ihdr;
-  detail::putBe32(ihdr, static_cast<std::uint32_t>(img.width));
-  detail::putBe32(ihdr, static_cast<std::uint32_t>(img.height));
-  ihdr.insert(ihdr.end(), {8, 0, 0, 0, 0});  // depth 8, grayscale, deflate, filter 0, no interlace
-  detail::putChunk(out, "IHDR", ihdr);
-  std::vector<std::uint8_t> raw;
-  raw.reserve(static_cast<std::size_t>(img.height) * (static_cast<std::size_t>(img.width) + 1));
-  for (int r = 0; r < img.height; ++r) {
-    raw.push_back(0);  // filter: none
-    const auto* row = img.pixels.data() + static_cast<std::size_t>(r) * static_cast<std::size_t>(img.width);
-    raw.insert(raw.end(), row, row + img.width);
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  image.width = static_cast<png_uint_32>(img.width);
+  image.height = static_cast<png_uint_32>(img.height);
+  image.format = PNG_FORMAT_GRAY;
+  png_alloc_size_t size = 0;  // first call: the size the PNG needs
+  if (!png_image_write_to_memory(&image, nullptr, &size, 0, img.pixels.data(), img.width, nullptr)) {
+    const std::string why = image.message;
+    png_image_free(&image);
+    throw DatasetError("PNG encoder: " + why);
   }
-  detail::putChunk(out, "IDAT", detail::zlibStream(raw));
-  detail::putChunk(out, "IEND", {});
+  std::vector<std::uint8_t> out(size);
+  if (!png_image_write_to_memory(&image, out.data(), &size, 0, img.pixels.data(), img.width, nullptr)) {
+    const std::string why = image.message;
+    png_image_free(&image);
+    throw DatasetError("PNG encoder: " + why);
+  }
+  out.resize(size);
+  return out;
+}
+
+/// The 8-bit grayscale image a PNG holds (any PNG, converted by libpng). Throws DatasetError
+/// naming libpng's reason when it cannot be decoded.
+inline GrayImage decodePngGray8(const std::vector<std::uint8_t>& png) {
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_memory(&image, png.data(), png.size()))
+    throw DatasetError(std::string("PNG decoder: ") + image.message);
+  image.format = PNG_FORMAT_GRAY;
+  GrayImage out(static_cast<int>(image.width), static_cast<int>(image.height));
+  if (!png_image_finish_read(&image, nullptr, out.pixels.data(), out.width, nullptr)) {
+    const std::string why = image.message;
+    png_image_free(&image);
+    throw DatasetError("PNG decoder: " + why);
+  }
   return out;
 }
 
