@@ -4,7 +4,7 @@
 //   raw 640x480 frame -> Preprocessor::processRaw (crop, median, adaptive threshold, mask,
 //   128x128, [0, 1]) -> the deployed GDN (ONNX, OpenCV dnn) -> toObservation (eq. 14,
 //   eq:se3_inverse_transform) -> DiscriminativeBayesFilter::step (Algorithm 2, alg:se3_bayes_filter)
-//   -> TactileServoController::step (eq. 18, eq:pid_control_law) -> one 1 ms cycle of
+//   -> TactileServoController::step (eq. 19, eqn:ff_fb_pid_control) -> one 1 ms cycle of
 //   realtime::CartesianVelocityPipeline (on hardware its own 1 kHz thread runs it 50 times per
 //   20 Hz frame).
 //

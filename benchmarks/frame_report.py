@@ -27,7 +27,7 @@ STAGES = [
     ('BM_FrameGdn', 'GDN forward pass (ONNX, OpenCV dnn)'),
     ('BM_FrameObservation', 'observation Gaussian (eq. 14, toObservation)'),
     ('BM_FrameFilter', 'Bayes filter step (Algorithm 2)'),
-    ('BM_FrameController', 'servo controller step (eq. 18)'),
+    ('BM_FrameController', 'servo controller step (eqs. 18-19)'),
     ('BM_FramePipeline', 'real-time pipeline, one 1 ms cycle'),
 ]
 

@@ -204,26 +204,6 @@ TEST_CASE("the checked Cholesky factorisation (LDLᵀ form on the equilibrated m
   CHECK(L == M6::Constant(-1.0));
 }
 
-TEST_CASE("chi-square CDF and quantiles", "[estimation][chi2]") {
-  // Reference values (standard χ² tables, 10+ digits).
-  CHECK(chiSquareQuantile(0.95, 1) == Approx(3.841458820694124).epsilon(1e-10));
-  CHECK(chiSquareQuantile(0.95, 6) == Approx(12.591587243743977).epsilon(1e-10));
-  CHECK(chiSquareQuantile(0.999, 6) == Approx(22.457744484825323).epsilon(1e-10));
-  CHECK(chiSquareQuantile(0.975, 3) == Approx(9.348403604496148).epsilon(1e-10));
-  CHECK(chiSquareQuantile(0.025, 3) == Approx(0.215795282623898).epsilon(1e-9));
-  CHECK(chiSquareQuantile(0.5, 2) == Approx(2.0 * std::log(2.0)).epsilon(1e-12));
-  for (double dof : {1.0, 3.0, 6.0, 60.0, 6000.0, 60000.0})
-    for (double p : {1e-6, 0.025, 0.5, 0.975, 0.999, 1 - 1e-9}) {
-      const double x = chiSquareQuantile(p, dof);
-      CHECK(chiSquareCdf(x, dof) == Approx(p).epsilon(1e-9));
-    }
-  // Wilson–Hilferty is good for many degrees of freedom.
-  CHECK(chiSquareQuantileWilsonHilferty(0.975, 6000) ==
-        Approx(chiSquareQuantile(0.975, 6000)).epsilon(1e-5));
-  CHECK(std::isnan(chiSquareQuantile(1.0, 6)));
-  CHECK(std::isnan(chiSquareQuantile(0.5, 0)));
-}
-
 // ---------------------------------------------------------------------------------------------
 TEST_CASE("concentrated Gaussian: tangent conversions, transform, inverse, compose",
           "[estimation][gaussian]") {

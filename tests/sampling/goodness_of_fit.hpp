@@ -1,7 +1,10 @@
 // Goodness-of-fit statistics for the sampling tests: Kolmogorov–Smirnov against U(0, 1) and
 // Pearson's chi-square, with their p-values (asymptotic Kolmogorov distribution with
-// Stephens' finite-n correction; regularised upper incomplete gamma function).
+// Stephens' finite-n correction; Boost.Math's chi-square distribution, independent of the
+// library's own chi_square.hpp).
 #pragma once
+
+#include <boost/math/distributions/chi_squared.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -37,40 +40,11 @@ inline double ksPValue(double d, std::size_t n) {
   return std::clamp(2.0 * sum, 0.0, 1.0);
 }
 
-/// Regularised upper incomplete gamma Q(a, x) (series for x < a + 1, Lentz continued
-/// fraction otherwise).
-inline double gammaQ(double a, double x) {
-  if (x <= 0) return 1.0;
-  const double lg = std::lgamma(a);
-  if (x < a + 1) {
-    double ap = a, del = 1.0 / a, sum = del;
-    for (int n = 0; n < 10000; ++n) {
-      ap += 1;
-      del *= x / ap;
-      sum += del;
-      if (std::abs(del) < std::abs(sum) * 1e-15) break;
-    }
-    return std::clamp(1.0 - sum * std::exp(-x + a * std::log(x) - lg), 0.0, 1.0);
-  }
-  const double tiny = 1e-300;
-  double b = x + 1 - a, c = 1 / tiny, d = 1 / b, h = d;
-  for (int i = 1; i < 10000; ++i) {
-    const double an = -i * (i - a);
-    b += 2;
-    d = an * d + b;
-    if (std::abs(d) < tiny) d = tiny;
-    c = b + an / c;
-    if (std::abs(c) < tiny) c = tiny;
-    d = 1 / d;
-    const double del = d * c;
-    h *= del;
-    if (std::abs(del - 1) < 1e-15) break;
-  }
-  return std::clamp(std::exp(-x + a * std::log(x) - lg) * h, 0.0, 1.0);
-}
-
 /// P(χ²_df ≥ x).
-inline double chiSquarePValue(double x, int df) { return gammaQ(0.5 * df, 0.5 * x); }
+inline double chiSquarePValue(double x, int df) {
+  if (!(x > 0)) return 1.0;
+  return boost::math::cdf(boost::math::complement(boost::math::chi_squared_distribution<double>(df), x));
+}
 
 /// Pearson's statistic Σ (O − E)² / E for equal expected counts.
 inline double chiSquareEqualCells(const std::vector<long>& counts) {
