@@ -10,8 +10,8 @@
 //
 // The image: val/processed_images/image_1.png of the shared TacTip data set, placed into its
 // camera frame's crop box (the data set holds processed images only); without the data set a
-// drawn pin pattern of the same size (the GDN's time does not depend on what it sees). The
-// benchmark's context says which. benchmarks/frame_report.py runs it beside the same network's
+// drawn pin pattern of the same size (lieservo_adapters/tactile_frame.hpp). The benchmark's
+// context says which. benchmarks/frame_report.py runs it beside the same network's
 // forward pass in PyTorch and prints each stage's share and the frame rate the loop sustains.
 #include <benchmark/benchmark.h>
 
@@ -20,13 +20,10 @@
 #include <string>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include <lieservo/lieservo.hpp>
 #include "lieservo_adapters/gdn_observation.hpp"
-#include "lieservo_adapters/onnx_pose_model.hpp"
-#include "lieservo_adapters/preprocessing.hpp"
+#include "lieservo_adapters/tactile_frame.hpp"
 
 namespace {
 
@@ -34,13 +31,10 @@ using namespace lieservo;
 namespace ad = lieservo::adapters;
 
 struct Frame {
-  ad::Preprocessor pre;
-  std::unique_ptr<ad::OnnxPoseModel> gdn;
-  cv::Mat raw;            // the camera frame
-  cv::Mat input;          // the network input it gives
+  std::unique_ptr<ad::TactileFrame> tactile;
+  cv::Mat input;  // the network input the camera frame gives
   ad::Prediction prediction;
   ConcentratedGaussian<SE3d> observation;
-  std::string image_source;
 };
 
 Frame& frame() {
@@ -48,35 +42,16 @@ Frame& frame() {
   return f;
 }
 
-// A TacTip-like camera frame: bright pins on a dark disc, inside the crop box.
-cv::Mat drawnFrame(const ad::PreprocessParams& p) {
-  cv::Mat raw(p.raw_size, CV_8UC1, cv::Scalar(40));
-  const cv::Point c(p.bbox.x + p.bbox.width / 2, p.bbox.y + p.bbox.height / 2);
-  for (int y = -220; y <= 220; y += 22)
-    for (int x = -220; x <= 220; x += 22)
-      if (x * x + y * y < 220 * 220) cv::circle(raw, c + cv::Point(x, y), 6, cv::Scalar(200), cv::FILLED);
-  return raw;
-}
-
 void setUp() {
   Frame& f = frame();
-  const std::string image = std::string(LIESERVO_DATA_DIR) + "/val/processed_images/image_1.png";
-  const cv::Mat processed = cv::imread(image, cv::IMREAD_GRAYSCALE);
-  const ad::PreprocessParams& p = f.pre.params();
-  if (!processed.empty() && processed.size() == p.processedSize()) {
-    f.raw = cv::Mat(p.raw_size, CV_8UC1, cv::Scalar(0));
-    processed.copyTo(f.raw(p.bbox));
-    f.image_source = image + " in its camera frame's crop box";
-  } else {
-    f.raw = drawnFrame(p);
-    f.image_source = "a drawn pin pattern (" + image + " is not there)";
-  }
-  f.gdn = std::make_unique<ad::OnnxPoseModel>(ad::OnnxPoseModel::fromCard(
-      std::string(LIESERVO_SOURCE_DIR) + "/examples/gdn/models/train_val/model_card.json", ad::ModelKind::gdn));
-  if (f.pre.processRaw(f.raw, f.input) != Status::ok || f.gdn->predict(f.input, f.prediction) != Status::ok ||
+  f.tactile = std::make_unique<ad::TactileFrame>(ad::TactileFrame::load(
+      std::string(LIESERVO_DATA_DIR) + "/val/processed_images/image_1.png",
+      std::string(LIESERVO_SOURCE_DIR) + "/examples/gdn/models/train_val/model_card.json"));
+  if (f.tactile->preprocessor.processRaw(f.tactile->raw, f.input) != Status::ok ||
+      f.tactile->gdn.predict(f.input, f.prediction) != Status::ok ||
       ad::toObservation(f.prediction, f.observation) != Status::ok) {
-    std::fprintf(stderr, "bench_frame: the frame does not go through: %s %s\n", f.pre.lastError().c_str(),
-                 f.gdn->lastError().c_str());
+    std::fprintf(stderr, "bench_frame: the frame does not go through: %s %s\n",
+                 f.tactile->preprocessor.lastError().c_str(), f.tactile->gdn.lastError().c_str());
     std::exit(2);
   }
 }
@@ -85,7 +60,7 @@ void BM_FramePreprocess(benchmark::State& state) {
   Frame& f = frame();
   cv::Mat input;
   for (auto _ : state) {
-    benchmark::DoNotOptimize(f.pre.processRaw(f.raw, input));
+    benchmark::DoNotOptimize(f.tactile->preprocessor.processRaw(f.tactile->raw, input));
     benchmark::ClobberMemory();
   }
 }
@@ -94,7 +69,7 @@ BENCHMARK(BM_FramePreprocess)->Unit(benchmark::kMicrosecond);
 void BM_FrameGdn(benchmark::State& state) {
   Frame& f = frame();
   ad::Prediction p;
-  for (auto _ : state) benchmark::DoNotOptimize(f.gdn->predict(f.input, p));
+  for (auto _ : state) benchmark::DoNotOptimize(f.tactile->gdn.predict(f.input, p));
 }
 BENCHMARK(BM_FrameGdn)->Unit(benchmark::kMicrosecond);
 
@@ -172,8 +147,8 @@ void BM_FrameWhole(benchmark::State& state) {
   std::uint64_t sequence = 0;
   int k = 0;
   for (auto _ : state) {
-    Status s = f.pre.processRaw(f.raw, input);
-    if (s == Status::ok) s = f.gdn->predict(input, p);
+    Status s = f.tactile->preprocessor.processRaw(f.tactile->raw, input);
+    if (s == Status::ok) s = f.tactile->gdn.predict(input, p);
     if (s == Status::ok) s = ad::toObservation(p, g);
     if (s == Status::ok) s = filter.step(robotStep(++k), g);
     if (s == Status::ok) s = servo.step(filter.filtered().mean, 0.05, u);
@@ -195,7 +170,7 @@ BENCHMARK(BM_FrameWhole)->Unit(benchmark::kMicrosecond);
 int main(int argc, char** argv) {
   cv::setNumThreads(1);  // one thread: the tactile thread's budget
   setUp();
-  benchmark::AddCustomContext("frame_image", frame().image_source);
+  benchmark::AddCustomContext("frame_image", frame().tactile->image_source);
   benchmark::AddCustomContext("frame_model", "examples/gdn/models/train_val/model_card.json (the deployed GDN)");
   benchmark::AddCustomContext("frame_threads", "1 (cv::setNumThreads(1))");
   benchmark::Initialize(&argc, argv);

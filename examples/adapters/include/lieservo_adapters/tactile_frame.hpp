@@ -1,0 +1,44 @@
+// lieservo_adapters/tactile_frame.hpp — one tactile frame as a rig's tactile thread sees it:
+// a 640x480 camera frame, the Preprocessor and the card's GDN, and a timer for the whole loop
+// (image -> preprocessing -> GDN -> observation Gaussian -> Bayes filter -> servo controller ->
+// one cycle of the real-time pipeline) on one thread. Used by lieservo_frame_bench
+// (benchmarks/bench_frame.cpp) and the demo's report (examples/replay/demo_hook.cpp).
+#pragma once
+
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "lieservo_adapters/onnx_pose_model.hpp"
+#include "lieservo_adapters/preprocessing.hpp"
+
+namespace lieservo::adapters {
+
+struct TactileFrame {
+  Preprocessor preprocessor;
+  OnnxPoseModel gdn;
+  cv::Mat raw;               ///< the camera frame (8-bit, the preprocessor's raw size)
+  std::string image_source;  ///< what the frame shows, for reports
+
+  /// The processed image at `processed_png` (a data set's processed_images/*.png) placed into
+  /// its camera frame's crop box, or, when it cannot be read, a drawn pin pattern of the same
+  /// size (the GDN's time does not depend on what it sees; image_source says which); the GDN
+  /// of the model card at `card_path`. Throws std::runtime_error for a missing or bad card or
+  /// model.
+  static TactileFrame load(const std::string& processed_png, const std::string& card_path);
+};
+
+/// Medians over the timed frames, in microseconds.
+struct FrameTiming {
+  double preprocess_us = 0, gdn_us = 0;
+  double estimation_control_us = 0;  ///< observation + filter step + controller step + one pipeline cycle
+  double whole_us = 0;               ///< the whole frame
+  int frames = 0;
+};
+
+/// Runs `frames` frames (after two warm-up ones) through every stage on this thread, with
+/// OpenCV held to one thread meanwhile, and returns the median stage times. A stage that fails
+/// throws std::runtime_error naming it.
+FrameTiming timeFrames(TactileFrame& frame, int frames);
+
+}  // namespace lieservo::adapters
