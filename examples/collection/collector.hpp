@@ -1,7 +1,7 @@
 // examples/collection/collector.hpp — training-data collection (paper Algorithm 1 (alg:data_collection)),
 // resumable after an interruption.
 //
-// For sample i = 1..N of a seeded plan (include/lieservo/sampling/contact_sampling.hpp), with
+// For sample i = 1..N of a seeded plan (examples/collection/contact_sampling.hpp), with
 // X_wf the surface feature frame {f} in the robot's work frame and h the start height:
 //   1. moveTo X_wf·T(0, 0, −h)                          start point above the surface
 //   2. moveTo X_wf·Euler6(0, 0, −h, α, β, 0)            rotate to the contact angle (α, β)
@@ -29,7 +29,7 @@
 #include <robot/robot_interface.hpp>
 
 #include <lieservo/groups/se3.hpp>
-#include <lieservo/sampling/contact_sampling.hpp>
+#include "contact_sampling.hpp"
 #include <lieservo/sampling/random.hpp>
 #include <lieservo/status.hpp>
 

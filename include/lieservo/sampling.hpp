@@ -1,6 +1,6 @@
-// lieservo/sampling.hpp — umbrella header for seeded random draws and training-data sampling
-// (paper Section 3.1.1 (sec:surface_contact_poses), Section 3.1.2 (sec:data_collection)).
+// lieservo/sampling.hpp — umbrella header for seeded random draws (the same sequence from a
+// seed on every platform). The paper's training-data sampling (Algorithm 1) is an example:
+// examples/collection/contact_sampling.hpp.
 #pragma once
 
-#include <lieservo/sampling/contact_sampling.hpp>
 #include <lieservo/sampling/random.hpp>

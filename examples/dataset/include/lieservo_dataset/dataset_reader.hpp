@@ -8,7 +8,7 @@
 //   shear_Rx,shear_Ry,shear_Rz
 // pose_* is X_perp (only z, Rx, Ry non-zero), shear_* is X_par (only x, y, Rz non-zero);
 // the surface contact pose is X_fs = X_par·X_perp = Euler6(shear_x, shear_y, pose_z,
-// pose_Rx, pose_Ry, shear_Rz) (see include/lieservo/sampling/contact_sampling.hpp).
+// pose_Rx, pose_Ry, shear_Rz) (see examples/collection/contact_sampling.hpp).
 //
 // Errors throw DatasetError naming "<file>:<line>:<column>".
 #pragma once

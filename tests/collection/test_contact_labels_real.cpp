@@ -5,6 +5,7 @@
 
 #include <lieservo/groups/se3.hpp>
 #include <lieservo/sampling.hpp>
+#include "contact_sampling.hpp"
 #include <lieservo/units.hpp>
 
 #include <lieservo_dataset/dataset_reader.hpp>

@@ -1,5 +1,5 @@
-// lieservo/sampling/contact_sampling.hpp — surface contact poses and post-contact shears
-// for training-data collection (paper Section 3.1.1 (sec:surface_contact_poses), Section 3.1.2 (sec:data_collection)).
+// examples/collection/contact_sampling.hpp — surface contact poses and post-contact shears
+// for training-data collection (an example built on the library, not part of it) (paper Section 3.1.1 (sec:surface_contact_poses), Section 3.1.2 (sec:data_collection)).
 //
 // A sample is the Euler 6-vector (x, y, z, α, β, γ) of the sensor frame {s} in the surface
 // feature frame {f} ({f}: z normal to and into the surface, aligned with {s} just out of

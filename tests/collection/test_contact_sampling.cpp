@@ -13,6 +13,7 @@
 
 #include <lieservo/groups/se3.hpp>
 #include <lieservo/sampling.hpp>
+#include "contact_sampling.hpp"
 #include <lieservo/units.hpp>
 
 #include "goodness_of_fit.hpp"
