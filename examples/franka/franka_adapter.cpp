@@ -40,7 +40,7 @@ realtime::SensorMount mountInMetres(const SE3d& X_es_mm) {
 FrankaAdapter::FrankaAdapter(const FrankaAdapterOptions& options) : options_(options) {
   if (!options_.X_ee_s.allFinite() || !options_.X_w_base.allFinite())
     throw std::runtime_error("FrankaAdapter: non-finite mount or base transform");
-  if (!options_.limits.within(realtime::SmootherLimits<double>::frankaDocumented()))
+  if (!options_.limits.within(franka_frames::documentedCartesianLimits()))
     throw std::runtime_error("FrankaAdapter: limits exceed libfranka's documented Cartesian limits");
   if (!(options_.move_gain > 0) || !(options_.move_speed_mm_s > 0) || !(options_.move_speed_rad_s > 0) ||
       !(options_.move_tolerance_mm > 0) || !(options_.move_tolerance_rad > 0) || !(options_.move_timeout_s > 0))

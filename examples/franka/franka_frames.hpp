@@ -1,6 +1,6 @@
 // franka_frames.hpp — libfranka's pose layout to the robot-agnostic real-time layer.
 //
-// libfranka gives the end-effector pose as RobotState::O_T_EE, a std::array<double, 16>
+// libfranka's documented Cartesian limits, and its pose layout: libfranka gives the end-effector pose as RobotState::O_T_EE, a std::array<double, 16>
 // holding the homogeneous 4×4 T_OE column-major (element (r, c) at c*4 + r; metres). The
 // core (include/lieservo/realtime) takes an Eigen Matrix4; this header maps one to the other
 // and applies the core's checks. Header-only, Eigen + std only (no libfranka), so it is
@@ -8,6 +8,7 @@
 #pragma once
 
 #include <lieservo/realtime/frames.hpp>
+#include <lieservo/realtime/velocity_smoother.hpp>
 #include <lieservo/status.hpp>
 
 #include <array>
@@ -19,6 +20,16 @@ using realtime::Matrix4;
 using realtime::SensorMount;
 using realtime::Vector3;
 using realtime::Vector6;
+
+/// libfranka's documented Cartesian limits for the end effector (m, rad, s): translation
+/// 1.7 m/s, 13 m/s², 6500 m/s³; rotation 2.5 rad/s, 25 rad/s², 12500 rad/s³. Never command at
+/// these: the adapter refuses smoother limits that are not within() them.
+inline realtime::SmootherLimits<double> documentedCartesianLimits() noexcept {
+  realtime::SmootherLimits<double> l;
+  l.translation = {1.7, 13.0, 6500.0};
+  l.rotation = {2.5, 25.0, 12500.0};
+  return l;
+}
 
 /// O_T_EE as a homogeneous matrix (Eigen's default storage is column-major, as libfranka's).
 inline Matrix4 homogeneous(const std::array<double, 16>& O_T_EE) noexcept {

@@ -33,9 +33,10 @@ void reportFrameRate(const std::string& data_dir, const std::string& models_dir)
 
 }  // namespace
 
-bool lieservoDemoReplay(const std::string& out_dir) {
+bool lieservoDemoReplay(const std::string& out_dir, int quick_images) {
   namespace rp = lieservo::replay;
   rp::ReplayOptions opt;
+  opt.quick = quick_images;
   opt.data_dir = LIESERVO_DEFAULT_DATA_DIR;
   opt.models_dir = LIESERVO_DEFAULT_MODELS_DIR;
   struct stat st {};

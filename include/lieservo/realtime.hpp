@@ -3,7 +3,7 @@
 //   velocity_smoother.hpp    jerk-limited Cartesian twist smoother (paper Section 4.4 (sec:software))
 //   latest_value_channel.hpp lock-free latest-value hand-over between threads
 //   watchdog.hpp             command-timeout / contact-loss stop policy
-//   frames.hpp               sensor body twist → base-frame EE velocity (libfranka O_dP_EE)
+//   frames.hpp               sensor body twist → base twist of the EE origin (Ad of SE3)
 //   velocity_pipeline.hpp    all of the above as one 1 kHz callback body
 #pragma once
 

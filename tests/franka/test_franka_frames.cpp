@@ -16,8 +16,8 @@ using namespace lieservo::franka_frames;
 TEST_CASE("franka frames: column-major O_T_EE is read as libfranka lays it out", "[realtime][franka]") {
   // A pose with R = Rz(90°), p = (0.3, -0.1, 0.5): column-major means translation at 12..14.
   const std::array<double, 16> a = {0, 1, 0, 0, -1, 0, 0, 0, 0, 0, 1, 0, 0.3, -0.1, 0.5, 1};
-  Matrix3 R;
-  Vector3 p;
+  Matrix3 R = Matrix3::Zero();  // (initialised: GCC 12 cannot see that ok means written)
+  Vector3 p = Vector3::Zero();
   REQUIRE(poseFromColumnMajor(a, R, p) == Status::ok);
   CHECK(R.isApprox(Eigen::AngleAxisd(lieservo::pi<double>() / 2, Vector3::UnitZ()).toRotationMatrix(), 1e-15));
   CHECK(p.isApprox(Vector3(0.3, -0.1, 0.5)));
@@ -53,4 +53,13 @@ TEST_CASE("franka frames: sensor pose from O_T_EE, bad arrays rejected with outp
   CHECK(R == Matrix3::Constant(5));
   CHECK(p == Vector3::Constant(5));
   CHECK(X == Matrix4::Constant(5));
+}
+
+TEST_CASE("franka frames: the default smoother limits are inside libfranka's documented Cartesian limits",
+          "[realtime][franka]") {
+  const lieservo::realtime::SmootherLimits<double> d{};
+  const lieservo::realtime::SmootherLimits<double> franka = lieservo::franka_frames::documentedCartesianLimits();
+  CHECK(franka.validate() == lieservo::Status::ok);
+  CHECK(d.within(franka));
+  CHECK_FALSE(franka.within(d));
 }

@@ -1,4 +1,4 @@
-// Sensor body twist → the base-frame EE-origin velocity (libfranka's O_dP_EE), against hand-computed cases
+// Sensor body twist → the base-frame EE-origin velocity [ṗ_OE; ω_O], against hand-computed cases
 // and a finite-difference check of the rigid-body kinematics.
 #include <catch2/catch.hpp>
 
@@ -185,7 +185,7 @@ TEST_CASE("frames: bad poses and twists are rejected with outputs untouched", "[
 }
 
 TEST_CASE("frames: the conversion is Ad(X_O'S) of the library's SE3 (mixed twist)", "[realtime][frames]") {
-  // O_dP_EE = Ad(X_O'S) ξ_s with X_O'S = (R_OS, R_OE p_ES), Ad = [[C, r^C], [0, C]].
+  // [ṗ_OE; ω_O] = Ad(X_O'S) ξ_s with X_O'S = (R_OS, R_OE p_ES), Ad = [[C, r^C], [0, C]].
   using SE3d = lieservo::SE3<double>;
   using SO3d = lieservo::SO3<double>;
   lieservo::sampling::Rng rng(7);

@@ -1,4 +1,4 @@
-// The 1 kHz callback body against a kinematic fake robot that integrates O_dP_EE.
+// The 1 kHz callback body against a kinematic fake robot that integrates the base twist [ṗ_OE; ω_O].
 #include <catch2/catch.hpp>
 
 #include "limit_checker.hpp"

@@ -28,7 +28,12 @@ constexpr double kTol = 1e-9;  // relative rounding allowance on the finite diff
 SmootherLimits<double> limitSet(int which) {
   switch (which) {
     case 0: return SmootherLimits<double>{};                    // lieservo's Franka defaults
-    case 1: return SmootherLimits<double>::frankaDocumented();  // libfranka's documented
+    case 1: {                                                   // fast, m-scale limits
+      SmootherLimits<double> l;
+      l.translation = {1.7, 13.0, 6500.0};
+      l.rotation = {2.5, 25.0, 12500.0};
+      return l;
+    }
     default: {                                                  // slow, mm-scale limits
       SmootherLimits<double> l;
       l.translation = {25.0, 100.0, 2000.0};
@@ -64,11 +69,18 @@ int stepsToSettle(VelocitySmoother<double>& s, const Twist& target, int max_step
 
 }  // namespace
 
-TEST_CASE("smoother: default limits are inside libfranka's documented Cartesian limits", "[realtime][smoother]") {
+TEST_CASE("smoother: within() compares every limit", "[realtime][smoother]") {
   const SmootherLimits<double> d{};
   CHECK(d.validate() == Status::ok);
-  CHECK(d.within(SmootherLimits<double>::frankaDocumented()));
-  CHECK_FALSE(SmootherLimits<double>::frankaDocumented().within(d));
+  CHECK(d.within(d));
+  CHECK(d.within(limitSet(1)));
+  CHECK_FALSE(limitSet(1).within(d));
+  for (int k = 0; k < 6; ++k) {  // one limit above the outer one's is enough to fail
+    SmootherLimits<double> l = d;
+    AxisLimits<double>& a = k < 3 ? l.translation : l.rotation;
+    (k % 3 == 0 ? a.velocity : k % 3 == 1 ? a.acceleration : a.jerk) *= 1.01;
+    CHECK_FALSE(l.within(d));
+  }
 }
 
 TEST_CASE("smoother: seeded random targets never exceed velocity, acceleration or jerk", "[realtime][smoother]") {

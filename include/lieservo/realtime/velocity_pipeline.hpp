@@ -3,13 +3,13 @@
 // Everything a robot adapter's real-time callback does, without the robot library, so it
 // is tested in CI: (1) take the latest tactile command (a sensor-frame body twist in the
 // library's units, mm/s and rad/s, plus a contact flag) with its stamp, (2) let the
-// CommandWatchdog decide whether it may pass, (3) convert it to the base-frame EE-origin
-// velocity (libfranka's O_dP_EE) through the current EE pose T_OE and the sensor mount
-// (frames.hpp), (4)
-// smooth it with the jerk-limited VelocitySmoother IN THE BASE FRAME, so the limits hold on
-// exactly the signal the robot receives, and (5) output O_dP_EE = [ṗ (m/s); ω (rad/s)].
+// CommandWatchdog decide whether it may pass, (3) convert it to the base twist (EE-origin
+// velocity and angular velocity in base coordinates) through the current EE pose T_OE and the
+// sensor mount (frames.hpp), (4) smooth it with the jerk-limited VelocitySmoother IN THE BASE
+// FRAME, so the limits hold on exactly the signal the robot receives, and (5) output
+// base_twist = [ṗ_OE (m/s); ω_O (rad/s)], what a Cartesian-velocity interface takes.
 //
-// The examples/franka adapter calls step() once per libfranka callback; a fake robot in
+// A robot adapter (examples/franka) calls step() once per callback of the robot library; a fake robot in
 // tests/realtime drives it at 1 kHz from a second thread.
 #pragma once
 
@@ -71,12 +71,12 @@ class CartesianVelocityPipeline {
 
   /// One control cycle. `T_OE`: the robot's current EE pose (homogeneous, metres);
   /// `cmd`/`stamp`: the latest command from the channel (stamp.sequence == 0: none yet);
-  /// `now_ns`: the same clock as the stamps. On success writes the command to `O_dP_EE`.
+  /// `now_ns`: the same clock as the stamps. On success writes the command to `base_twist`.
   /// Errors (state and output unchanged): a bad pose (poseFromHomogeneous's Status), a
   /// non-finite twist in an accepted command (non_finite_input). On an error the caller
   /// should call stepStopping() for this cycle instead.
   Status step(const Matrix4& T_OE, const TwistCommand& cmd, const ChannelStamp& stamp, std::int64_t now_ns,
-              std::array<double, 6>& O_dP_EE) noexcept {
+              std::array<double, 6>& base_twist) noexcept {
     Matrix3 R;
     Vector3 p;
     const Status ps = poseFromHomogeneous(T_OE, R, p);
@@ -94,23 +94,23 @@ class CartesianVelocityPipeline {
 
     Vector6 target = Vector6::Zero();
     if (watchdog_.passCommands()) target = sensorTwistToBase(R, options_.mount, xi, options_.twist_to_metres);
-    return advance(target, O_dP_EE);
+    return advance(target, base_twist);
   }
 
   /// Convenience: read the newest command from `channel` and step().
   Status step(const Matrix4& T_OE, LatestValueChannel<TwistCommand>& channel, std::int64_t now_ns,
-              std::array<double, 6>& O_dP_EE) noexcept {
+              std::array<double, 6>& base_twist) noexcept {
     TwistCommand cmd;
     ChannelStamp stamp;
     if (!channel.read(cmd, stamp)) stamp = ChannelStamp{};
-    return step(T_OE, cmd, stamp, now_ns, O_dP_EE);
+    return step(T_OE, cmd, stamp, now_ns, base_twist);
   }
 
   /// A cycle that needs no pose: trips the watchdog (external) and ramps towards zero.
   /// Use on any error, or to stop. Always ok.
-  Status stepStopping(std::array<double, 6>& O_dP_EE) noexcept {
+  Status stepStopping(std::array<double, 6>& base_twist) noexcept {
     watchdog_.trip();
-    return advance(Vector6::Zero(), O_dP_EE);
+    return advance(Vector6::Zero(), base_twist);
   }
 
   /// Request a stop (latched until rearm()); subsequent step()s ramp to zero.

@@ -68,9 +68,10 @@ struct AxisLimits {
 
 /// Limits of a twist [v; ω]: translation (length units/s, /s², /s³) and rotation (rad/s, …).
 ///
-/// The default values are lieservo's conservative defaults for a Franka arm in SI units
-/// (m, rad) — well below libfranka's documented Cartesian limits (see frankaDocumented()):
-/// translation 0.25 m/s, 2.5 m/s², 250 m/s³; rotation 0.8 rad/s, 5 rad/s², 500 rad/s³.
+/// The default values are conservative limits for a collaborative arm in SI units (m, rad):
+/// translation 0.25 m/s, 2.5 m/s², 250 m/s³; rotation 0.8 rad/s, 5 rad/s², 500 rad/s³ (a
+/// robot's adapter checks them against its documented limits with within(), e.g.
+/// examples/franka/franka_frames.hpp).
 /// Tactile servoing in the paper moves at ~10–25 mm/s, far inside these.
 template <typename Scalar = double>
 struct SmootherLimits {
@@ -81,16 +82,6 @@ struct SmootherLimits {
   Status validate() const noexcept {
     const Status s = translation.validate();
     return s != Status::ok ? s : rotation.validate();
-  }
-
-  /// libfranka's documented Cartesian limits for the end effector (m, rad, s):
-  /// translation 1.7 m/s, 13 m/s², 6500 m/s³; rotation 2.5 rad/s, 25 rad/s², 12500 rad/s³.
-  /// Never command at these: use them only as the outer bound that limits must stay under.
-  static SmootherLimits frankaDocumented() noexcept {
-    SmootherLimits l;
-    l.translation = {Scalar(1.7), Scalar(13), Scalar(6500)};
-    l.rotation = {Scalar(2.5), Scalar(25), Scalar(12500)};
-    return l;
   }
 
   /// Every limit of *this is <= the corresponding one of `outer`.
