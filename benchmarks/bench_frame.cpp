@@ -83,19 +83,13 @@ void BM_FrameObservation(benchmark::State& state) {
 }
 BENCHMARK(BM_FrameObservation)->Unit(benchmark::kMicrosecond);
 
-// The robot moves 0.5 mm and 0.1° between frames, as in a slow servo.
-SE3d robotStep(int k) {
-  SE3d::Tangent xi;
-  xi << 0.5, 0.0, 0.0, 0.0, 0.0, 1.745e-3;
-  return SE3d::exp(double(k % 50) * xi);
-}
-
+// The robot moves as in FrameLoop::robotPose: 0.5 mm and 0.1° between frames.
 void BM_FrameFilter(benchmark::State& state) {
   Frame& f = frame();
   DiscriminativeBayesFilter<SE3d> filter;
   (void)filter.step(SE3d(), f.observation);  // the first step initialises
   int k = 0;
-  for (auto _ : state) benchmark::DoNotOptimize(filter.step(robotStep(++k), f.observation));
+  for (auto _ : state) benchmark::DoNotOptimize(filter.step(ad::FrameLoop::robotPose(std::uint64_t(++k)), f.observation));
 }
 BENCHMARK(BM_FrameFilter)->Unit(benchmark::kMicrosecond);
 
@@ -133,34 +127,18 @@ BENCHMARK(BM_FramePipeline)->Unit(benchmark::kMicrosecond);
 // pipeline's cycle that takes the frame's command).
 void BM_FrameWhole(benchmark::State& state) {
   Frame& f = frame();
-  DiscriminativeBayesFilter<SE3d> filter;
-  TactileServoController<SE3d> servo(surfaceFollowingPreset<double>());
-  realtime::CartesianVelocityPipeline pipeline;
-  const Eigen::Matrix4d T_OE = Eigen::Matrix4d::Identity();
+  ad::FrameLoop loop;
   cv::Mat input;
   ad::Prediction p;
-  ConcentratedGaussian<SE3d> g;
-  SE3d::Tangent u;
-  realtime::TwistCommand cmd;
-  std::array<double, 6> out{};
-  std::int64_t now = 0;
-  std::uint64_t sequence = 0;
-  int k = 0;
   for (auto _ : state) {
     Status s = f.tactile->preprocessor.processRaw(f.tactile->raw, input);
     if (s == Status::ok) s = f.tactile->gdn.predict(input, p);
-    if (s == Status::ok) s = ad::toObservation(p, g);
-    if (s == Status::ok) s = filter.step(robotStep(++k), g);
-    if (s == Status::ok) s = servo.step(filter.filtered().mean, 0.05, u);
+    if (s == Status::ok) s = loop.step(p);
     if (s != Status::ok) {
       state.SkipWithError("a stage failed");
       break;
     }
-    for (int j = 0; j < 6; ++j) cmd.twist_s[std::size_t(j)] = u[j];
-    cmd.in_contact = true;
-    now += 1000000;
-    benchmark::DoNotOptimize(pipeline.step(T_OE, cmd, realtime::ChannelStamp{++sequence, now}, now, out));
-    benchmark::DoNotOptimize(out);
+    benchmark::DoNotOptimize(loop.command);
   }
 }
 BENCHMARK(BM_FrameWhole)->Unit(benchmark::kMicrosecond);

@@ -25,6 +25,7 @@
 #include "image_io.hpp"
 #include "image_source.hpp"
 #include <lieservo_dataset/json.hpp>
+#include <lieservo_dataset/json_writer.hpp>
 
 #include <robot/robot_interface.hpp>
 
@@ -33,6 +34,7 @@
 #include <lieservo/sampling/random.hpp>
 #include <lieservo/status.hpp>
 
+#include <charconv>
 #include <chrono>
 #include <csignal>
 #include <cstdint>
@@ -102,13 +104,20 @@ inline std::string targetsHeader() {
   return h;
 }
 
+/// Shortest decimal that reads back to the same double (std::to_chars); −0 as 0.
+inline std::string shortestDecimal(double x) {
+  if (x == 0) return "0";
+  char buf[32];
+  return std::string(buf, std::to_chars(buf, buf + sizeof buf, x).ptr);
+}
+
 /// One targets.csv row (no newline): mm and degrees, shortest round-trip decimals.
 /// pose_* = X_perp = (0, 0, z, α, β, 0), shear_* = X_par = (x, y, 0, 0, 0, γ).
 inline std::string targetsRow(std::size_t index, const ContactPose& p) {
   const auto e = p.euler6Degrees();  // x, y, z, α, β, γ
   const double v[12] = {0, 0, e(2), e(3), e(4), 0, e(0), e(1), 0, 0, 0, e(5)};
   std::string row = imageName(index);
-  for (double x : v) row += "," + jsonNumber(x);
+  for (double x : v) row += "," + shortestDecimal(x);
   return row;
 }
 

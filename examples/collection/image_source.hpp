@@ -8,7 +8,7 @@
 #pragma once
 
 #include "image_io.hpp"
-#include <lieservo_dataset/json.hpp>
+#include <lieservo_dataset/json_writer.hpp>
 
 #include <robot/robot_interface.hpp>
 

@@ -153,14 +153,15 @@ std::string splitRole(const std::string& card_path, const std::string& split) {
   } catch (const std::exception&) {
     return name + ": the model card cannot be read, so whether the network saw these images is unknown.";
   }
-  const dataset::JsonValue* data = card.root.find("data");
-  const dataset::JsonValue* listed = data != nullptr && data->isObject() ? data->find(split) : nullptr;
+  using dataset::find;
+  const dataset::JsonValue* data = find(card.root, "data");
+  const dataset::JsonValue* listed = data != nullptr ? find(*data, split) : nullptr;
   std::string stopping;
-  if (const dataset::JsonValue* models = card.root.find("models"))
-    if (const dataset::JsonValue* gdn = models->find("gdn"))
-      if (const dataset::JsonValue* training = gdn->find("training"))
-        if (const dataset::JsonValue* es = training->find("early_stopping"))
-          if (es->isString()) stopping = es->string;
+  if (const dataset::JsonValue* models = find(card.root, "models"))
+    if (const dataset::JsonValue* gdn = find(*models, "gdn"))
+      if (const dataset::JsonValue* training = find(*gdn, "training"))
+        if (const dataset::JsonValue* es = find(*training, "early_stopping"))
+          if (es->IsString()) stopping = es->GetString();
   if (trained.sawAll(split))
     return name + " is what the network was trained on: these numbers do not measure generalisation.";
   if (trained.sawSplit(split))
@@ -170,12 +171,12 @@ std::string splitRole(const std::string& card_path, const std::string& split) {
   if (listed == nullptr)
     return name + " is not listed in the model card's data: the network did not see it in training "
                   "(if the card is complete).";
-  if (listed->isString())
-    return name + ": the model card says \"" + listed->string + "\".";
+  if (listed->IsString())
+    return name + ": the model card says \"" + std::string(listed->GetString()) + "\".";
   if (!stopping.empty() && stopping.find(split) != std::string::npos)
     return name + " was used for model selection (the card's early stopping: \"" + stopping +
            "\"), so these numbers are slightly optimistic for a new session.";
-  return name + " is listed in the model card's data (" + std::to_string(static_cast<long>(listed->number)) +
+  return name + " is listed in the model card's data (" + std::to_string(listed->IsNumber() ? static_cast<long>(listed->GetDouble()) : 0L) +
          " images) but not as used in training.";
 }
 

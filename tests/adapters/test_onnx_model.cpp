@@ -188,7 +188,7 @@ TEST_CASE("onnx: a card's sigma calibration scales sigma and nothing else", "[ad
   std::ofstream(card) << head << R"("sigma_calibration": {"scale": [1, 1, 1, 2, 2]}})";
   CHECK_THROWS_WITH(ModelCard::fromJsonFile(card, ModelKind::gdn), Catch::Contains("expected 6 factors, found 5"));
   std::ofstream(card) << head << R"("sigma_calibration": {"scale": [1, 1, 1, 2, 0, 1]}})";
-  CHECK_THROWS_WITH(ModelCard::fromJsonFile(card, ModelKind::gdn), Catch::Contains("scale[4] must be a finite number > 0"));
+  CHECK_THROWS_WITH(ModelCard::fromJsonFile(card, ModelKind::gdn), Catch::Contains("\"sigma_calibration.scale[4]\" must be a finite number > 0"));
   std::ofstream(card) << head << R"("sigma_calibration": {"scale": [1, 1, 1, 2, -1, 1]}})";
   CHECK_THROWS_WITH(ModelCard::fromJsonFile(card, ModelKind::gdn), Catch::Contains("scale[4]"));
   std::ofstream(card) << head << R"("sigma_calibration": {"scale": [1, 1, "x", 2, 1, 1]}})";

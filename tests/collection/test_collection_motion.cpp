@@ -76,7 +76,7 @@ TEST_CASE("synthetic image source: pose dependent, binarised, valid PNG", "[coll
     CHECK(((png[20] << 24) | (png[21] << 16) | (png[22] << 8) | png[23]) == 80);
   }
   CHECK(seen.size() == 30);
-  CHECK_THAT(cam.paramsJson(), Catch::Matchers::Contains("\"type\": \"synthetic\""));
+  CHECK_THAT(cam.paramsJson(), Catch::Matchers::Contains("\"type\":\"synthetic\""));
 }
 
 TEST_CASE("png encoder: libpng's reader gives the image back", "[collection][motion]") {

@@ -20,6 +20,7 @@ namespace {
 using lieservo::dataset::DatasetError;
 using lieservo::dataset::JsonDocument;
 using lieservo::dataset::JsonValue;
+using lieservo::dataset::find;
 
 constexpr double kPi = lieservo::pi<double>();
 
@@ -45,8 +46,8 @@ double unitFactor(const std::string& unit, const std::string& where) {
 /// free-text form "mu: mm, mm, mm, deg, deg, deg; sigma_inv: ..." (or "mm, mm, ... deg").
 std::array<std::string, 6> parseUnits(const JsonDocument& doc, const JsonValue& v, const std::string& where) {
   std::vector<std::string> tokens;
-  if (v.isArray()) {
-    for (const auto& e : v.array) tokens.push_back(trim(doc.asString(e, where)));
+  if (v.IsArray()) {
+    for (const auto& e : v.GetArray()) tokens.push_back(trim(doc.asString(e, where)));
   } else {
     std::string text = doc.asString(v, where);
     const auto mu = text.find("mu:");
@@ -66,22 +67,22 @@ std::array<std::string, 6> parseUnits(const JsonDocument& doc, const JsonValue& 
 
 /// sigma_calibration: {"scale": [6 finite numbers > 0], "source": "..." (optional)}.
 void parseSigmaCalibration(const JsonDocument& doc, const JsonValue& v, const std::string& where, ModelCard& c) {
-  const auto& scale = doc.asArray(doc.at(v, "scale"), where + ".scale");
-  if (scale.size() != 6)
-    doc.fail(v, where + ".scale: expected 6 factors, found " + std::to_string(scale.size()));
-  for (std::size_t i = 0; i < 6; ++i) {
-    const double k = doc.asNumber(scale[i], where + ".scale[" + std::to_string(i) + "]");
-    if (!(k > 0.0) || !std::isfinite(k))
-      doc.fail(scale[i], where + ".scale[" + std::to_string(i) + "] must be a finite number > 0");
+  const auto scale = doc.asArray(doc.at(v, "scale", where), where + ".scale");
+  if (scale.Size() != 6)
+    doc.fail(where + ".scale", "expected 6 factors, found " + std::to_string(scale.Size()));
+  for (rapidjson::SizeType i = 0; i < 6; ++i) {
+    const std::string at = where + ".scale[" + std::to_string(i) + "]";
+    const double k = doc.asNumber(scale[i], at);
+    if (!(k > 0.0) || !std::isfinite(k)) doc.fail(at, "must be a finite number > 0");
     c.sigma_scale[i] = k;
   }
-  if (const JsonValue* src = v.find("source")) c.sigma_calibration_source = doc.asString(*src, where + ".source");
+  if (const JsonValue* src = find(v, "source")) c.sigma_calibration_source = doc.asString(*src, where + ".source");
 }
 
 int lastNumber(const JsonDocument& doc, const JsonValue& shape, const std::string& where) {
-  const auto& a = doc.asArray(shape, where);
-  if (a.empty()) doc.fail(shape, where + ": empty shape");
-  return doc.asInt(a.back(), where + " (last entry)");
+  const auto a = doc.asArray(shape, where);
+  if (a.Empty()) doc.fail(where, "is an empty shape");
+  return doc.asInt(a[a.Size() - 1], where + " (last entry)");
 }
 
 std::string dirOf(const std::string& path) {
@@ -98,35 +99,35 @@ bool fileExists(const std::string& path) {
 
 ModelCard ModelCard::fromJsonFile(const std::string& path, ModelKind kind) {
   // The shared reader (examples/dataset): malformed input and wrongly typed or missing
-  // entries throw DatasetError naming "<path>:<line>:<col>".
+  // entries throw DatasetError naming the path (and line:column, or the entry).
   const JsonDocument doc = lieservo::dataset::readJsonFile(path);
   ModelCard c;
   c.kind = kind;
   const std::string k = kindName(kind);
   try {
-    const JsonValue& r = doc.root;
-    if (!r.isObject()) doc.fail(r, "top level should be an object");
-    if (const JsonValue* models = r.find("models")) {
-      const JsonValue* e = models->isObject() ? models->find(k) : nullptr;
-      if (e == nullptr) doc.fail(*models, "no entry models." + k + " (model not exported yet?)");
-      if (const JsonValue* f = e->find("file")) c.onnx_file = doc.asString(*f, "models." + k + ".file");
-      if (const JsonValue* h = e->find("sha256")) c.sha256 = doc.asString(*h, "models." + k + ".sha256");
-      const JsonValue& in = doc.at(*e, "input");
-      c.input_size = lastNumber(doc, doc.at(in, "shape"), "models." + k + ".input.shape");
-      const JsonValue& out = doc.at(*e, "output");
-      c.outputs = lastNumber(doc, doc.at(out, "shape"), "models." + k + ".output.shape");
-      c.units = parseUnits(doc, doc.at(out, "units"), "models." + k + ".output.units");
-      if (const JsonValue* cal = e->find("sigma_calibration"))
+    const JsonValue& r = doc.expect(doc.root.IsObject(), doc.root, "", "top level should be an object");
+    if (const JsonValue* models = find(r, "models")) {
+      const std::string m = "models." + k;
+      const JsonValue* e = find(*models, k);
+      if (e == nullptr) doc.fail("", "no entry " + m + " (model not exported yet?)");
+      if (const JsonValue* f = find(*e, "file")) c.onnx_file = doc.asString(*f, m + ".file");
+      if (const JsonValue* h = find(*e, "sha256")) c.sha256 = doc.asString(*h, m + ".sha256");
+      const JsonValue& in = doc.at(*e, "input", m);
+      c.input_size = lastNumber(doc, doc.at(in, "shape", m + ".input"), m + ".input.shape");
+      const JsonValue& out = doc.at(*e, "output", m);
+      c.outputs = lastNumber(doc, doc.at(out, "shape", m + ".output"), m + ".output.shape");
+      c.units = parseUnits(doc, doc.at(out, "units", m + ".output"), m + ".output.units");
+      if (const JsonValue* cal = find(*e, "sigma_calibration"))
         parseSigmaCalibration(doc, *cal, "models." + k + ".sigma_calibration", c);
     } else {
       const std::string declared = doc.asString(doc.at(r, "kind"), "kind");
       if (declared != k) throw std::runtime_error("card is for a \"" + declared + "\" model, not \"" + k + "\"");
-      if (const JsonValue* f = r.find("file")) c.onnx_file = doc.asString(*f, "file");
-      if (const JsonValue* h = r.find("sha256")) c.sha256 = doc.asString(*h, "sha256");
+      if (const JsonValue* f = find(r, "file")) c.onnx_file = doc.asString(*f, "file");
+      if (const JsonValue* h = find(r, "sha256")) c.sha256 = doc.asString(*h, "sha256");
       c.input_size = doc.asInt(doc.at(r, "input_size"), "input_size");
       c.outputs = doc.asInt(doc.at(r, "outputs"), "outputs");
       c.units = parseUnits(doc, doc.at(r, "output_units"), "output_units");
-      if (const JsonValue* cal = r.find("sigma_calibration")) parseSigmaCalibration(doc, *cal, "sigma_calibration", c);
+      if (const JsonValue* cal = find(r, "sigma_calibration")) parseSigmaCalibration(doc, *cal, "sigma_calibration", c);
     }
     for (std::size_t i = 0; i < 6; ++i)
       c.to_library[i] = unitFactor(c.units[i], "unit of component " + std::to_string(i + 1));

@@ -35,45 +35,45 @@ void PreprocessParams::validate() const {
 
 PreprocessParams PreprocessParams::fromJsonFile(const std::string& path) {
   // The shared reader (examples/dataset): Python's Infinity/NaN accepted; malformed input and
-  // wrongly typed values throw DatasetError naming "<path>:<line>:<col>".
+  // wrongly typed values throw DatasetError naming the path (and line:column, or the key).
   using lieservo::dataset::DatasetError;
   using lieservo::dataset::JsonValue;
+  using lieservo::dataset::find;
   const lieservo::dataset::JsonDocument doc = lieservo::dataset::readJsonFile(path);
   PreprocessParams p;
   try {
-    if (!doc.root.isObject()) doc.fail(doc.root, "top level should be an object");
-    const JsonValue& r = doc.root;
-    if (const JsonValue* v = r.find("gray")) p.gray = doc.asBool(*v, "gray");
-    if (const JsonValue* v = r.find("bbox"); v != nullptr && !v->isNull()) {
-      const auto& a = doc.asArray(*v, "bbox");
-      if (a.size() != 4) doc.fail(*v, "bbox should have 4 entries [x0, y0, x1, y1]");
+    const JsonValue& r = doc.expect(doc.root.IsObject(), doc.root, "", "top level should be an object");
+    if (const JsonValue* v = find(r, "gray")) p.gray = doc.asBool(*v, "gray");
+    if (const JsonValue* v = find(r, "bbox"); v != nullptr && !v->IsNull()) {
+      const auto a = doc.asArray(*v, "bbox");
+      if (a.Size() != 4) doc.fail("bbox", "should have 4 entries [x0, y0, x1, y1]");
       const int x0 = doc.asInt(a[0], "bbox[0]"), y0 = doc.asInt(a[1], "bbox[1]");
       const int x1 = doc.asInt(a[2], "bbox[2]"), y1 = doc.asInt(a[3], "bbox[3]");
       p.bbox = cv::Rect(x0, y0, x1 - x0, y1 - y0);
     }
-    if (const JsonValue* v = r.find("thresh")) {
-      if (v->isNull() || (v->isBool() && !v->boolean)) {
+    if (const JsonValue* v = find(r, "thresh")) {
+      if (v->IsNull() || v->IsFalse()) {
         p.threshold = false;
       } else {
-        const auto& a = doc.asArray(*v, "thresh");
-        if (a.size() != 2) doc.fail(*v, "thresh should be [block_size, C]");
+        const auto a = doc.asArray(*v, "thresh");
+        if (a.Size() != 2) doc.fail("thresh", "should be [block_size, C]");
         p.threshold = true;
         p.threshold_block = doc.asInt(a[0], "thresh[0]");
         p.threshold_c = doc.asNumber(a[1], "thresh[1]");
       }
     }
-    if (const JsonValue* v = r.find("circle_mask_radius")) {
-      p.circle_mask_radius = v->isNull() ? 0 : doc.asInt(*v, "circle_mask_radius");
+    if (const JsonValue* v = find(r, "circle_mask_radius")) {
+      p.circle_mask_radius = v->IsNull() ? 0 : doc.asInt(*v, "circle_mask_radius");
     }
-    if (const JsonValue* v = r.find("dims"); v != nullptr && !v->isNull()) {
-      const auto& a = doc.asArray(*v, "dims");
-      if (a.size() != 2 || doc.asInt(a[0], "dims[0]") != doc.asInt(a[1], "dims[1]"))
-        doc.fail(*v, "dims should be a square [n, n]");
+    if (const JsonValue* v = find(r, "dims"); v != nullptr && !v->IsNull()) {
+      const auto a = doc.asArray(*v, "dims");
+      if (a.Size() != 2 || doc.asInt(a[0], "dims[0]") != doc.asInt(a[1], "dims[1]"))
+        doc.fail("dims", "should be a square [n, n]");
       p.output_size = doc.asInt(a[0], "dims[0]");
     }
     p.validate();
   } catch (const DatasetError&) {
-    throw;  // already names the file, line and column
+    throw;  // already names the file and where in it
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(path + ": " + e.what());
   }

@@ -9,7 +9,6 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include <lieservo/lieservo.hpp>
 #include "lieservo_adapters/gdn_observation.hpp"
 
 namespace lieservo::adapters {
@@ -47,20 +46,31 @@ TactileFrame TactileFrame::load(const std::string& processed_png, const std::str
   return f;
 }
 
+SE3d FrameLoop::robotPose(std::uint64_t k) {
+  SE3d::Tangent xi;
+  xi << 0.5, 0.0, 0.0, 0.0, 0.0, 1.745e-3;
+  return SE3d::exp(double(k % 50) * xi);
+}
+
+Status FrameLoop::step(const Prediction& prediction) {
+  ++frames;
+  Status s = toObservation(prediction, observation);
+  if (s == Status::ok) s = filter.step(robotPose(frames), observation);
+  if (s == Status::ok) s = servo.step(filter.filtered().mean, 0.05, twist);
+  if (s != Status::ok) return s;
+  realtime::TwistCommand cmd;
+  for (int j = 0; j < 6; ++j) cmd.twist_s[std::size_t(j)] = twist[j];
+  cmd.in_contact = true;
+  const std::int64_t now = std::int64_t(frames) * 50000000;  // 20 Hz
+  return pipeline.step(Eigen::Matrix4d::Identity(), cmd, realtime::ChannelStamp{frames, now}, now, command);
+}
+
 FrameTiming timeFrames(TactileFrame& frame, int frames) {
   using clock = std::chrono::steady_clock;
   auto us = [](clock::time_point a, clock::time_point b) { return std::chrono::duration<double, std::micro>(b - a).count(); };
-  DiscriminativeBayesFilter<SE3d> filter;
-  TactileServoController<SE3d> servo(surfaceFollowingPreset<double>());
-  realtime::CartesianVelocityPipeline pipeline;
-  const Eigen::Matrix4d T_OE = Eigen::Matrix4d::Identity();
+  FrameLoop loop;
   cv::Mat input;
   Prediction prediction;
-  ConcentratedGaussian<SE3d> observation;
-  SE3d::Tangent u, xi;
-  xi << 0.5, 0.0, 0.0, 0.0, 0.0, 1.745e-3;  // the robot's motion between frames: 0.5 mm, 0.1°
-  realtime::TwistCommand cmd;
-  std::array<double, 6> out{};
   std::vector<double> pre, gdn, rest, whole;
   const int threads = cv::getNumThreads();
   cv::setNumThreads(1);  // the tactile thread's budget: one core
@@ -75,13 +85,7 @@ FrameTiming timeFrames(TactileFrame& frame, int frames) {
     const clock::time_point t1 = clock::now();
     if (frame.gdn.predict(input, prediction) != Status::ok) throw std::runtime_error("the GDN failed: " + frame.gdn.lastError());
     const clock::time_point t2 = clock::now();
-    Status s = toObservation(prediction, observation);
-    if (s == Status::ok) s = filter.step(SE3d::exp(double(k) * xi), observation);
-    if (s == Status::ok) s = servo.step(filter.filtered().mean, 0.05, u);
-    for (int j = 0; j < 6; ++j) cmd.twist_s[std::size_t(j)] = u[j];
-    cmd.in_contact = true;
-    const std::int64_t now = std::int64_t(k + 1) * 50000000;  // 20 Hz
-    if (s == Status::ok) s = pipeline.step(T_OE, cmd, realtime::ChannelStamp{std::uint64_t(k + 1), now}, now, out);
+    const Status s = loop.step(prediction);
     const clock::time_point t3 = clock::now();
     if (s != Status::ok) throw std::runtime_error(std::string("the estimation and control stages failed: ") + describe(s));
     if (k < 2) continue;  // warm-up

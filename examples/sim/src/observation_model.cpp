@@ -31,23 +31,24 @@ bool GdnCalibration::fromModelCard(const std::string& path, GdnCalibration& out)
   } catch (const std::exception&) {
     return false;
   }
-  const dataset::JsonValue* gdn = nullptr;
-  if (const dataset::JsonValue* models = card.root.isObject() ? card.root.find("models") : nullptr)
-    gdn = models->isObject() ? models->find("gdn") : nullptr;
-  if (gdn == nullptr || !gdn->isObject()) return false;
+  using dataset::find;
+  const dataset::JsonValue* models = find(card.root, "models");
+  const dataset::JsonValue* gdn = models != nullptr ? find(*models, "gdn") : nullptr;
+  if (gdn == nullptr || !gdn->IsObject()) return false;
   const char* measured_on = "held_out";
-  const dataset::JsonValue* set = gdn->find(measured_on);
-  if (set == nullptr) set = gdn->find(measured_on = "validation");
-  const dataset::JsonValue* mae = set != nullptr && set->isObject() ? set->find("mae") : nullptr;
-  if (mae == nullptr || !mae->isObject()) return false;
+  const dataset::JsonValue* set = find(*gdn, measured_on);
+  if (set == nullptr) set = find(*gdn, measured_on = "validation");
+  const dataset::JsonValue* mae = set != nullptr ? find(*set, "mae") : nullptr;
+  if (mae == nullptr || !mae->IsObject()) return false;
   const char* keys[6] = {"rho1_mm", "rho2_mm", "rho3_mm", "phi1_deg", "phi2_deg", "phi3_deg"};
   Vec6 m;
   for (int i = 0; i < 6; ++i) {
-    const dataset::JsonValue* v = mae->find(keys[i]);
-    if (v == nullptr || !v->isNumber() || !(std::isfinite(v->number) && v->number > 0)) return false;
-    m[i] = v->number;
+    const dataset::JsonValue* v = find(*mae, keys[i]);
+    if (v == nullptr || !v->IsNumber() || !(std::isfinite(v->GetDouble()) && v->GetDouble() > 0)) return false;
+    m[i] = v->GetDouble();
   }
-  const long n = set->find("n") != nullptr && set->find("n")->isNumber() ? long(set->find("n")->number) : 0;
+  const dataset::JsonValue* count = find(*set, "n");
+  const long n = count != nullptr && count->IsNumber() ? long(count->GetDouble()) : 0;
   out = fromValues(m, "project GDN model card (" + path + "), MAE on " +
                           (std::string(measured_on) == "held_out" ? "its held-out rows" : "the validation set") +
                           (n > 0 ? " (n = " + std::to_string(n) + ")" : std::string()));

@@ -1,14 +1,17 @@
 // lieservo_adapters/tactile_frame.hpp — one tactile frame as a rig's tactile thread sees it:
 // a 640x480 camera frame, the Preprocessor and the card's GDN, and a timer for the whole loop
 // (image -> preprocessing -> GDN -> observation Gaussian -> Bayes filter -> servo controller ->
-// one cycle of the real-time pipeline) on one thread. Used by lieservo_frame_bench
+// one cycle of the real-time pipeline: FrameLoop) on one thread. Used by lieservo_frame_bench
 // (benchmarks/bench_frame.cpp) and the demo's report (examples/replay/demo_hook.cpp).
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <string>
 
 #include <opencv2/core.hpp>
 
+#include <lieservo/lieservo.hpp>
 #include "lieservo_adapters/onnx_pose_model.hpp"
 #include "lieservo_adapters/preprocessing.hpp"
 
@@ -26,6 +29,29 @@ struct TactileFrame {
   /// of the model card at `card_path`. Throws std::runtime_error for a missing or bad card or
   /// model.
   static TactileFrame load(const std::string& processed_png, const std::string& card_path);
+};
+
+/// The rest of a frame after the network, as a rig's tactile thread runs it: the observation
+/// Gaussian (eq. 14, eq:se3_inverse_transform), the Bayes filter (Algorithm 2,
+/// alg:se3_bayes_filter), the servo controller (surface following, Table 7) and one 1 ms cycle
+/// of the real-time pipeline with the new command. Used by timeFrames and by
+/// benchmarks/bench_frame.cpp.
+struct FrameLoop {
+  DiscriminativeBayesFilter<SE3d> filter;
+  TactileServoController<SE3d> servo{surfaceFollowingPreset<double>()};
+  realtime::CartesianVelocityPipeline pipeline;
+  ConcentratedGaussian<SE3d> observation;
+  SE3d::Tangent twist = SE3d::Tangent::Zero();  ///< the servo's command (sensor frame)
+  std::array<double, 6> command{};              ///< the pipeline's output (base frame)
+  std::uint64_t frames = 0;
+
+  /// The robot's sensor pose at frame k: 0.5 mm and 0.1° per frame, as in a slow servo,
+  /// wrapping every 50 frames.
+  static SE3d robotPose(std::uint64_t k);
+  /// One frame from the network's prediction, the robot at robotPose(frames), stamped at 20 Hz.
+  /// The first failing stage's Status; a failure leaves the loop's state as each stage's
+  /// contract says (unchanged for the failing stage).
+  Status step(const Prediction& prediction);
 };
 
 /// Medians over the timed frames, in microseconds.

@@ -243,12 +243,12 @@ struct CollectParams {
     if (d.has("phi_max")) p.phi_max_deg = d.number("phi_max");
     if (d.has("seed")) {
       const double s = d.number("seed");
-      if (!(s >= 0) || s != std::floor(s) || s > 9007199254740992.0) d.fail(d.member("seed"), "\"seed\" must be a non-negative integer");
+      if (!(s >= 0) || s != std::floor(s) || s > 9007199254740992.0) d.fail("seed", "must be a non-negative integer");
       p.seed = static_cast<unsigned long long>(s);
     }
     if (d.has("n_samples")) {
       const double n = d.number("n_samples");
-      if (!(n >= 0) || n != std::floor(n) || n > 1e12) d.fail(d.member("n_samples"), "\"n_samples\" must be a non-negative integer");
+      if (!(n >= 0) || n != std::floor(n) || n > 1e12) d.fail("n_samples", "must be a non-negative integer");
       p.n_samples = static_cast<std::size_t>(n);
     }
     return p;

@@ -58,27 +58,27 @@ struct TrainedOn {
 };
 
 /// From a card already read from card_path (its held-out list is read from beside it). Throws
-/// DatasetError naming the file (and line:column) when the card's data or the list is malformed
+/// DatasetError naming the file (and the entry) when the card's data or the list is malformed
 /// or the list cannot be read.
 inline TrainedOn trainedOn(const JsonDocument& card, const std::string& card_path) {
   TrainedOn t;
-  const JsonValue* data = card.root.isObject() ? card.root.find("data") : nullptr;
-  if (data == nullptr || !data->isObject()) return t;
-  const JsonValue* trained = data->find("trained_on");
+  const JsonValue* data = find(card.root, "data");
+  if (data == nullptr || !data->IsObject()) return t;
+  const JsonValue* trained = find(*data, "trained_on");
   if (trained == nullptr) return t;
-  if (!trained->isObject()) card.fail(*trained, "data.trained_on must be an object {split: images}");
+  if (!trained->IsObject()) card.fail("data.trained_on", "must be an object {split: images}");
   t.listed = true;
-  for (const JsonMember& m : trained->object) {
-    if (!m.value.isNumber() || !(m.value.number >= 0))
-      card.fail(m.value, "data.trained_on." + m.key + " must be a number >= 0");
-    t.images[m.key] = static_cast<long>(m.value.number);
+  for (const auto& m : trained->GetObject()) {
+    const std::string key = m.name.GetString();
+    if (!m.value.IsNumber() || !(m.value.GetDouble() >= 0)) card.fail("data.trained_on." + key, "must be a number >= 0");
+    t.images[key] = static_cast<long>(m.value.GetDouble());
   }
-  const JsonValue* held = data->find("held_out");
+  const JsonValue* held = find(*data, "held_out");
   if (held == nullptr) return t;
-  const JsonValue* file = held->isObject() ? held->find("file") : nullptr;
-  if (file == nullptr || !file->isString()) card.fail(*held, "data.held_out needs \"file\": the list of held-out rows");
+  const JsonValue* file = find(*held, "file");
+  if (file == nullptr || !file->IsString()) card.fail("data.held_out", "needs \"file\": the list of held-out rows");
   const std::size_t slash = card_path.find_last_of('/');
-  t.held_out_file = (slash == std::string::npos ? std::string() : card_path.substr(0, slash + 1)) + file->string;
+  t.held_out_file = (slash == std::string::npos ? std::string() : card_path.substr(0, slash + 1)) + file->GetString();
   std::ifstream in(t.held_out_file);
   if (!in) throw DatasetError(t.held_out_file + ": cannot read the held-out list named by " + card_path);
   std::string line;
@@ -93,13 +93,14 @@ inline TrainedOn trainedOn(const JsonDocument& card, const std::string& card_pat
     t.held_out.emplace(split, name);
   }
   // Each split's count in the card must match its list: a stale list would mislabel images.
-  for (const JsonMember& m : held->object) {
-    if (m.key == "file") continue;
+  for (const auto& m : held->GetObject()) {
+    const std::string key = m.name.GetString();
+    if (key == "file") continue;
     long listed = 0;
-    for (const auto& row : t.held_out) listed += row.first == m.key ? 1 : 0;
-    if (!m.value.isNumber() || static_cast<long>(m.value.number) != listed)
-      card.fail(m.value, "data.held_out." + m.key + " does not match the " + std::to_string(listed) +
-                             " rows of that split in " + t.held_out_file);
+    for (const auto& row : t.held_out) listed += row.first == key ? 1 : 0;
+    if (!m.value.IsNumber() || static_cast<long>(m.value.GetDouble()) != listed)
+      card.fail("data.held_out." + key, "does not match the " + std::to_string(listed) + " rows of that split in " +
+                                            t.held_out_file);
   }
   return t;
 }
