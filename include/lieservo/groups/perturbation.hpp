@@ -123,8 +123,9 @@ G rplus(const G& X, const typename G::Tangent& eps, typename G::Jacobian& J_X, t
 /// σ = ln(Y⁻¹ X)^∨ with ∂σ/∂X and ∂σ/∂Y.
 template <class G>
 typename G::Tangent rminus(const G& X, const G& Y, typename G::Jacobian& J_X, typename G::Jacobian& J_Y) {
-  const typename G::Tangent sigma = rminus(X, Y);
-  J_X = G::leftJacobianInverse(sigma) * Y.inverse().Ad();
+  const G Y_inv = Y.inverse();  // once, for σ and Ad(Y⁻¹)
+  const typename G::Tangent sigma = (Y_inv * X).log();
+  J_X = G::leftJacobianInverse(sigma) * Y_inv.Ad();
   J_Y = -J_X;
   return sigma;
 }
