@@ -9,7 +9,9 @@
 // 2. Speed, every library on the same inputs in the same run (names <op>/<library>):
 //    SE(3) exp, log, Ad, left Jacobian and its inverse, compose, inverse, act; SO(3) exp and
 //    log; double and float. The tangents have angles up to 1 rad; SO(3) exp is also timed on
-//    angles between a quarter and a half turn (exp_large), where lieservo leaves its series.
+//    angles between a quarter and a half turn (exp_large), and SO(3) exp and log on three angle
+//    sets (exp_<set>, log_<set>): uniform over [0, π) (full), small (θ = 10^u, u uniform in
+//    [−8, −2]) and near a half turn (θ = π − 10^u).
 //    The peers store a unit quaternion and lieservo a rotation matrix, so SO(3) is timed
 //    twice for the peers: in their own representation (exp returns a quaternion, log starts
 //    from one) and as a matrix (exp followed by the conversion to a matrix, log preceded by the
@@ -33,6 +35,16 @@
 namespace {
 
 using lieservo_bench::kRing;
+
+// The SO(3) angle sets: uniform over [0, π), small, and near π (see the file comment).
+enum AngleSet { kFull, kSmall, kNearPi, kSets };
+const char* const kSetName[kSets] = {"full", "small", "near_pi"};
+double angleOf(AngleSet set, lieservo::sampling::Rng& rng) {
+  const double pi = lieservo::pi<double>();
+  if (set == kFull) return lieservo_bench::uniform(rng, 0.0, 1.0) * pi;
+  const double tiny = std::pow(10.0, lieservo_bench::uniform(rng, -8.0, -2.0));
+  return set == kSmall ? tiny : pi - tiny;
+}
 
 // ---- accuracy -------------------------------------------------------------------------------
 long double refB(long double x) {  // Σ (−1)^k x^k/(2k+2)!
@@ -103,15 +115,33 @@ struct Inputs {
   Eigen::Matrix<S, 3, 3> R[kRing];  // X's rotation matrix (the peers' "log from a matrix")
   Eigen::Matrix<S, 3, 1> p[kRing];
   Eigen::Matrix<S, 3, 1> phi_large[kRing];  // rotation vectors with θ ∈ (π/2, π)
+  Eigen::Matrix<S, 3, 1> phi_set[kSets][kRing];  // rotation vectors of each angle set
+  lieservo::SO3<S> C_set[kSets][kRing];           // their rotations (log's inputs)
 #ifdef LIESERVO_HAVE_SOPHUS
   Sophus::SE3<S> sX[kRing], sY[kRing];
+  Sophus::SO3<S> sC_set[kSets][kRing];
 #endif
 #ifdef LIESERVO_HAVE_MANIF
   manif::SE3<S> mX[kRing], mY[kRing];
+  manif::SO3<S> mC_set[kSets][kRing];
 #endif
   Inputs() {
     const auto& in = lieservo_bench::GroupInputs<G>::get();
     lieservo::sampling::Rng rng(99);
+    for (int set = 0; set < kSets; ++set) {
+      for (std::size_t i = 0; i < kRing; ++i) {
+        const double angle = angleOf(AngleSet(set), rng);
+        const Eigen::Vector3d axis = lieservo_bench::randomTangent<lieservo::SO3d>(rng, 0.0, 1.0).normalized();
+        phi_set[set][i] = (axis * angle).cast<S>();
+        C_set[set][i] = lieservo::SO3<S>::fromMatrixUnchecked(lieservo::SO3d::exp(axis * angle).matrix().cast<S>());
+#ifdef LIESERVO_HAVE_SOPHUS
+        sC_set[set][i] = Sophus::SO3<S>(Quat(C_set[set][i].matrix()).normalized());
+#endif
+#ifdef LIESERVO_HAVE_MANIF
+        mC_set[set][i] = manif::SO3<S>(Quat(C_set[set][i].matrix()).normalized());
+#endif
+      }
+    }
     for (std::size_t i = 0; i < kRing; ++i) {
       const double angle = lieservo_bench::uniform(rng, 0.5, 1.0) * lieservo::pi<double>();
       phi_large[i] = lieservo_bench::randomTangent<lieservo::SO3<S>>(rng, 0.0, 1.0).normalized() * S(angle);
@@ -170,6 +200,21 @@ void registerAll(const std::string& sfx) {  // sfx: "d" or "f", as the libraries
   registerOp<S>(so3 + "exp/lieservo", [](const In& in, std::size_t i) { return SO3::exp(in.xi[i].template tail<3>()); });
   registerOp<S>(so3 + "log/lieservo", [](const In& in, std::size_t i) { return in.X[i].so3().log(); });
   registerOp<S>(so3 + "exp_large/lieservo", [](const In& in, std::size_t i) { return SO3::exp(in.phi_large[i]); });
+  for (int set = 0; set < kSets; ++set) {
+    const std::string tag = std::string("_") + kSetName[set] + "/";
+    registerOp<S>(so3 + "exp" + tag + "lieservo", [set](const In& in, std::size_t i) { return SO3::exp(in.phi_set[set][i]); });
+    registerOp<S>(so3 + "log" + tag + "lieservo", [set](const In& in, std::size_t i) { return in.C_set[set][i].log(); });
+#ifdef LIESERVO_HAVE_SOPHUS
+    registerOp<S>(so3 + "exp" + tag + "sophus",
+                  [set](const In& in, std::size_t i) { return Sophus::SO3<S>::exp(in.phi_set[set][i]); });
+    registerOp<S>(so3 + "log" + tag + "sophus", [set](const In& in, std::size_t i) { return in.sC_set[set][i].log(); });
+#endif
+#ifdef LIESERVO_HAVE_MANIF
+    registerOp<S>(so3 + "exp" + tag + "manif",
+                  [set](const In& in, std::size_t i) { return manif::SO3Tangent<S>(in.phi_set[set][i]).exp(); });
+    registerOp<S>(so3 + "log" + tag + "manif", [set](const In& in, std::size_t i) { return in.mC_set[set][i].log(); });
+#endif
+  }
 
 #ifdef LIESERVO_HAVE_SOPHUS
   using SE = Sophus::SE3<S>;

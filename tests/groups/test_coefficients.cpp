@@ -194,7 +194,8 @@ TEST_CASE("Quaternion log factor 2 atan2(n, w)/n across the series cutoff", "[co
 
 TEST_CASE("Half-angle series of exp: terms, term counts and the packet evaluation", "[core][coefficients]") {
   // sin(θ/2)/θ and cos(θ/2) in x = θ²; the term count is the first K whose omitted term stays
-  // below eps·|a0| at x = (π/2)², and K − 1 terms would not do.
+  // below eps·|a0| at x = (π/2)², and K − 1 terms would not do; three terms reach eps exactly at
+  // halfAngleShortMaxX.
   for (int n = 0; n < 12; ++n) {
     INFO("term " << n);
     const ld sinc = sgn(n) / (2 * std::pow(4.0L, n) * factorial(2 * n + 1));
@@ -202,20 +203,26 @@ TEST_CASE("Half-angle series of exp: terms, term counts and the packet evaluatio
     CHECK(std::abs(static_cast<double>((d::halfSincTerm(n) - sinc) / sinc)) <= 1e-17);
     CHECK(std::abs(static_cast<double>((d::halfCosTerm(n) - cosn) / cosn)) <= 1e-17);
   }
-  const ld xmax = d::kHalfAngleSeriesMaxX;
+  const ld xmax = d::kHalfAngleSplitX;
   CHECK(static_cast<double>(std::abs(xmax - lieservo::pi<ld>() * lieservo::pi<ld>() / 4)) <= 1e-18);
-  auto omitted = [&](int K) {
+  auto omitted = [&](int K, ld x) {  // relative to the first terms, 1/2 and 1
     return std::max(std::abs(d::halfSincTerm(K) / d::halfSincTerm(0)), std::abs(d::halfCosTerm(K))) *
-           std::pow(xmax, static_cast<ld>(K));
+           std::pow(x, static_cast<ld>(K));
   };
   const int Kd = d::HalfAngleSeries<double>::K, Kf = d::HalfAngleSeries<float>::K;
   INFO("K double " << Kd << ", float " << Kf);
-  CHECK(omitted(Kd) < std::numeric_limits<double>::epsilon());
-  CHECK(omitted(Kd - 1) >= std::numeric_limits<double>::epsilon());
-  CHECK(omitted(Kf) < std::numeric_limits<float>::epsilon());
-  CHECK(omitted(Kf - 1) >= std::numeric_limits<float>::epsilon());
+  CHECK(omitted(Kd, xmax) < std::numeric_limits<double>::epsilon());
+  CHECK(omitted(Kd - 1, xmax) >= std::numeric_limits<double>::epsilon());
+  CHECK(omitted(Kf, xmax) < std::numeric_limits<float>::epsilon());
+  CHECK(omitted(Kf - 1, xmax) >= std::numeric_limits<float>::epsilon());
+  const ld short_d = d::halfAngleShortMaxX<double>(), short_f = d::halfAngleShortMaxX<float>();
+  INFO("short series up to x = " << static_cast<double>(short_d) << " (double), " << static_cast<double>(short_f)
+                                  << " (float)");
+  CHECK(static_cast<double>(std::abs(omitted(3, short_d) / std::numeric_limits<double>::epsilon() - 1)) <= 1e-12);
+  CHECK(static_cast<double>(std::abs(omitted(3, short_f) / std::numeric_limits<float>::epsilon() - 1)) <= 1e-12);
   // The packet evaluation against the long-double functions over [0, (π/2)²]: within 2 ulp
-  // of the value (both are of order 1/2 to 1 there, no cancellation).
+  // of the value (both are of order 1/2 to 1 there, no cancellation); the short series
+  // likewise over [0, halfAngleShortMaxX].
   double worst_d = 0, worst_f = 0;
   for (int i = 0; i <= 100000; ++i) {
     const double x = static_cast<double>(xmax) * i / 100000;
@@ -230,8 +237,78 @@ TEST_CASE("Half-angle series of exp: terms, term counts and the packet evaluatio
     const ld sf_ref = xf == 0 ? 0.5L : std::sin(hf) / (2 * hf);
     worst_f = std::max({worst_f, static_cast<double>(std::abs(ef(0) - sf_ref) / sf_ref),
                         static_cast<double>(std::abs(ef(1) - std::cos(hf)) / std::cos(hf))});
+    // The short series on its own range.
+    const double xs = static_cast<double>(short_d) * i / 100000;
+    const ld hs = std::sqrt(static_cast<ld>(xs)) / 2;
+    const auto es = d::lanesEval(d::kHalfAngleShortSeries<double>.a, xs);
+    const ld ss_ref = xs == 0 ? 0.5L : std::sin(hs) / (2 * hs);
+    worst_d = std::max({worst_d, static_cast<double>(std::abs(es(0) - ss_ref) / ss_ref),
+                        static_cast<double>(std::abs(es(1) - std::cos(hs)) / std::cos(hs))});
+    const float xsf = static_cast<float>(static_cast<double>(short_f) * i / 100000);
+    const ld hsf = std::sqrt(static_cast<ld>(xsf)) / 2;
+    const auto esf = d::lanesEval(d::kHalfAngleShortSeries<float>.a, xsf);
+    const ld ssf_ref = xsf == 0 ? 0.5L : std::sin(hsf) / (2 * hsf);
+    worst_f = std::max({worst_f, static_cast<double>(std::abs(esf(0) - ssf_ref) / ssf_ref),
+                        static_cast<double>(std::abs(esf(1) - std::cos(hsf)) / std::cos(hsf))});
   }
-  INFO("worst relative error: double " << worst_d << ", float " << worst_f);
+  INFO("worst error: double " << worst_d << ", float " << worst_f);
+  CHECK(worst_d <= 2 * std::numeric_limits<double>::epsilon());
+  CHECK(worst_f <= 2 * std::numeric_limits<float>::epsilon());
+}
+
+TEST_CASE("Half-turn series of exp: term counts and the packet evaluation", "[core][coefficients]") {
+  // Rodrigues' A = sinθ/θ and B = (1 − cosθ)/θ² in d = x − π² over the quarter to the half
+  // turn, d ∈ [−3π²/4, 0]. Term count: the first K whose omitted term (A absolute, B relative
+  // to B₀) stays below eps at |d| = 3π²/4, and K − 1 would not do. Values against long double
+  // sin/cos over 1e5 points: A within an absolute 2 eps (it falls from 2/π to 0: the matrix's
+  // entries need its absolute accuracy), B within a relative 2 eps (4/π² to 2/π²); the short
+  // form (half the terms) likewise over |d| ≤ halfTurnShortMaxD.
+  const ld D = d::kHalfAngleSeriesMaxX - d::kHalfAngleSplitX;
+  auto omitted = [&](int K) {
+    return std::max(std::abs(d::kHalfTurnTerms.A[K]), std::abs(d::kHalfTurnTerms.B[K] / d::kHalfTurnTerms.B[0])) *
+           std::pow(D, static_cast<ld>(K));
+  };
+  const int Kd = d::HalfTurnSeries<double>::K, Kf = d::HalfTurnSeries<float>::K;
+  INFO("K double " << Kd << ", float " << Kf);
+  CHECK(omitted(Kd) < std::numeric_limits<double>::epsilon());
+  CHECK(omitted(Kd - 1) >= std::numeric_limits<double>::epsilon());
+  CHECK(omitted(Kf) < std::numeric_limits<float>::epsilon());
+  CHECK(omitted(Kf - 1) >= std::numeric_limits<float>::epsilon());
+  CHECK(static_cast<double>(std::abs(d::kHalfTurnTerms.A[0])) <= 1e-19);  // sin π = 0
+  CHECK(static_cast<double>(std::abs(d::kHalfTurnTerms.B[0] * lieservo::pi<ld>() * lieservo::pi<ld>() / 2 - 1)) <=
+        1e-18);  // B(π²) = 2/π²
+  double worst_d = 0, worst_f = 0;
+  const auto ref = [](ld x, ld& A, ld& B) {
+    const ld th = std::sqrt(x);
+    A = std::sin(th) / th;
+    B = (1 - std::cos(th)) / x;
+  };
+  for (int i = 0; i <= 100000; ++i) {
+    const double x = static_cast<double>(d::kHalfAngleSplitX + D * i / 100000);
+    const double dd = (x - d::kPiSquared<double>.hi) - d::kPiSquared<double>.lo;
+    const auto e = d::lanesEval(d::kHalfTurnSeries<double>.a, dd);
+    ld A, B;
+    ref(x, A, B);
+    worst_d = std::max({worst_d, static_cast<double>(std::abs(e(0) - A)), static_cast<double>(std::abs(e(1) - B) / B)});
+    const float xf = static_cast<float>(x);
+    const float df = (xf - d::kPiSquared<float>.hi) - d::kPiSquared<float>.lo;
+    const auto ef = d::lanesEval(d::kHalfTurnSeries<float>.a, df);
+    ref(xf, A, B);
+    worst_f = std::max({worst_f, static_cast<double>(std::abs(ef(0) - A)), static_cast<double>(std::abs(ef(1) - B) / B)});
+    // The short form (half the terms) over its own range near π.
+    const double xs = static_cast<double>(d::kHalfAngleSeriesMaxX - d::halfTurnShortMaxD<double>() * i / 100000);
+    const double ds = (xs - d::kPiSquared<double>.hi) - d::kPiSquared<double>.lo;
+    const auto es = d::lanesEval(d::kHalfTurnShortSeries<double>.a, ds);
+    ref(xs, A, B);
+    worst_d = std::max({worst_d, static_cast<double>(std::abs(es(0) - A)), static_cast<double>(std::abs(es(1) - B) / B)});
+    const float xsf = static_cast<float>(d::kHalfAngleSeriesMaxX - d::halfTurnShortMaxD<float>() * i / 100000);
+    const float dsf = (xsf - d::kPiSquared<float>.hi) - d::kPiSquared<float>.lo;
+    const auto esf = d::lanesEval(d::kHalfTurnShortSeries<float>.a, dsf);
+    ref(xsf, A, B);
+    worst_f = std::max({worst_f, static_cast<double>(std::abs(esf(0) - A)), static_cast<double>(std::abs(esf(1) - B) / B)});
+  }
+  INFO("worst error: double " << worst_d / std::numeric_limits<double>::epsilon() << " eps, float "
+                              << worst_f / std::numeric_limits<float>::epsilon() << " eps");
   CHECK(worst_d <= 2 * std::numeric_limits<double>::epsilon());
   CHECK(worst_f <= 2 * std::numeric_limits<float>::epsilon());
 }

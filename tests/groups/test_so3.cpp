@@ -1,5 +1,7 @@
 // SO(3): group axioms, exp/log round trips (random and named hard cases), adjoint, Jacobians,
 // series inverse Jacobian, BCH, interpolation, checked construction, sampling.
+#include <sstream>
+
 #include "group_properties.hpp"
 
 using lieservo::sampling::uniform;
@@ -170,26 +172,34 @@ TEMPLATE_TEST_CASE("SO3 log (and logWithTerms) of a matrix against a long-double
   CHECK(worst <= 4 * lst::epsOf<S>());
 }
 
-TEMPLATE_TEST_CASE("SO3 exp against a long-double reference, on both sides of the quarter turn", "[core][so3]",
-                   float, double) {
-  // exp builds the rotation from half-angle series up to θ = π/2 and by Rodrigues with
-  // sin/cos beyond. Reference: Rodrigues in long double on the same (rounded) φ. Criteria
-  // (largest entry error): ≤ 3 eps up to the quarter turn and no more than Rodrigues there,
-  // ≤ 5 eps beyond; ‖CᵀC − I‖ (largest entry) ≤ 4 eps on the series side. A quarter of the
-  // samples lie within a relative 1e-6 of the switch, on either side. (The 4 eps was first also required
-  // of the Rodrigues side, which the series leaves as it was: it measures 5.7–6.6 eps there,
-  // within the 2√3·5 eps that its entry bound implies, which is what is checked on that side.)
+TEMPLATE_TEST_CASE("SO3 exp against a long-double reference, on each of its three paths", "[core][so3]", float,
+                   double) {
+  // exp builds the rotation from half-angle series up to the quarter turn (three terms below
+  // halfAngleShortMaxX), from Rodrigues' A and B as series at π² up to the half turn, and by
+  // Rodrigues with sin/cos beyond. Reference: Rodrigues in long double on the same (rounded)
+  // φ. Criteria (largest entry error; ‖CᵀC − I‖, largest entry):
+  //  - θ ≤ π/2: ≤ 3 eps and no more than Rodrigues (sin/cos) on the same φ; ‖CᵀC − I‖ ≤ 4 eps;
+  //  - π/2 < θ ≤ π, which Rodrigues (sin/cos) served before: no more than Rodrigues on the same
+  //    φ, and the bounds that held there: ≤ 5 eps, ‖CᵀC − I‖ ≤ 2√3·5 eps;
+  //  - θ > π: ≤ 5 eps, ‖CᵀC − I‖ ≤ 2√3·5 eps (its entry bound; it measures 5.7–6.6 eps).
+  // A quarter of the samples lie within a relative 1e-6 of θ = π, an eighth within 1e-6 of the
+  // quarter turn and an eighth within 1e-3 of the short series' end, on either side; an eighth
+  // beyond π (up to 3π/2: exp's callers pass θ ≤ π, as log returns).
   using S = TestType;
   using ld = long double;
   using G = SO3<S>;
   const double eps = lst::epsOf<S>(), pi = lieservo::pi<double>();
+  const double short_end = std::sqrt(static_cast<double>(lieservo::detail::halfAngleShortMaxX<S>()));
   lieservo::sampling::Rng rng(2026);
-  double worst_in = 0, worst_out = 0, orth_in = 0, orth_out = 0, worst_rodrigues_in = 0;
-  int in = 0, out = 0;
+  double worst[3] = {}, rodrigues[3] = {}, orth[3] = {}, worst_at[3] = {};
+  int count[3] = {};
   for (int i = 0; i < 100000; ++i) {
-    const double angle = i % 4 == 0   ? uniform(rng, pi / 2, pi)
-                         : i % 4 == 1 ? pi / 2 * (1 + 1e-6 * (2 * uniform(rng, 0.0, 1.0) - 1))
-                                      : uniform(rng, 0.0, pi / 2);
+    const double jitter = 2 * uniform(rng, 0.0, 1.0) - 1;
+    const double angle = i % 8 == 0   ? uniform(rng, pi, 1.5 * pi)
+                         : i % 8 == 1 ? pi / 2 * (1 + 1e-6 * jitter)
+                         : i % 8 == 2 ? short_end * (1 + 1e-3 * jitter)
+                         : i % 4 == 3 ? pi * (1 + 1e-6 * jitter)
+                                      : uniform(rng, 0.0, pi);
     const typename G::Tangent phi = lst::tangentWithAngle<G>(rng, angle, 0.0);
     const typename G::Matrix C = G::exp(phi).matrix();
     const Eigen::Matrix<ld, 3, 1> p = phi.template cast<ld>();
@@ -199,31 +209,38 @@ TEMPLATE_TEST_CASE("SO3 exp against a long-double reference, on both sides of th
     const Eigen::Matrix<ld, 3, 3> ref = Eigen::Matrix<ld, 3, 3>::Identity() + (th > 0 ? std::sin(th) / th : 1) * K +
                                         (th > 0 ? (1 - std::cos(th)) / (th * th) : 0.5L) * K * K;
     const double err = static_cast<double>((C.template cast<ld>() - ref).cwiseAbs().maxCoeff());
-    const bool series = phi.squaredNorm() <= S(lieservo::detail::kHalfAngleSeriesMaxX);
-    if (series) {  // Rodrigues on the same φ, for comparison
-      const typename G::Matrix Cr = G::expWith(phi, lieservo::detail::AngleTerms<S>(phi.squaredNorm())).matrix();
-      const double err_r = static_cast<double>((Cr.template cast<ld>() - ref).cwiseAbs().maxCoeff());
-      worst_rodrigues_in = std::max(worst_rodrigues_in, err_r);
+    const S x = phi.squaredNorm();
+    const int r = x <= S(lieservo::detail::kHalfAngleSplitX) ? 0 : x <= S(lieservo::detail::kHalfAngleSeriesMaxX) ? 1 : 2;
+    if (r < 2) {  // Rodrigues with sin/cos on the same φ, for comparison
+      const typename G::Matrix Cr = G::expWith(phi, lieservo::detail::AngleTerms<S>(x)).matrix();
+      rodrigues[r] = std::max(rodrigues[r], static_cast<double>((Cr.template cast<ld>() - ref).cwiseAbs().maxCoeff()));
     }
-    (series ? worst_in : worst_out) = std::max(series ? worst_in : worst_out, err);
-    (series ? in : out)++;
+    if (err > worst[r]) worst_at[r] = static_cast<double>(th);
+    worst[r] = std::max(worst[r], err);
+    ++count[r];
     const Eigen::Matrix<ld, 3, 3> Cl = C.template cast<ld>();
-    const double orth =
-        static_cast<double>((Cl.transpose() * Cl - Eigen::Matrix<ld, 3, 3>::Identity()).cwiseAbs().maxCoeff());
-    (series ? orth_in : orth_out) = std::max(series ? orth_in : orth_out, orth);
+    orth[r] = std::max(orth[r], static_cast<double>((Cl.transpose() * Cl - Eigen::Matrix<ld, 3, 3>::Identity())
+                                                        .cwiseAbs()
+                                                        .maxCoeff()));
   }
-  INFO("series side (" << in << "): " << worst_in / eps << " eps (Rodrigues there: " << worst_rodrigues_in / eps
-                       << " eps); Rodrigues side (" << out
-                       << "): " << worst_out / eps << " eps; orthonormality " << orth_in / eps << " and "
-                       << orth_out / eps << " eps");
-  CHECK(in > 60000);
-  CHECK(out > 30000);
-  CHECK(worst_in <= 3 * eps);
-  CHECK(worst_in <= worst_rodrigues_in);
-  CHECK(worst_out <= 5 * eps);
-  CHECK(orth_in <= 4 * eps);
-  CHECK(orth_out <= 2 * std::sqrt(3.0) * 5 * eps);
-  // Named cases: the identity exactly, a tiny angle, and the switch itself.
+  std::ostringstream summary;
+  for (int r = 0; r < 3; ++r)
+    summary << "path " << r << " (" << count[r] << " samples): " << worst[r] / eps << " eps at theta " << worst_at[r]
+            << " (Rodrigues on the same phi: " << rodrigues[r] / eps << " eps); orthonormality " << orth[r] / eps
+            << " eps\n";
+  INFO(summary.str());
+  CHECK(count[0] > 35000);  // 3/8 of the samples by construction, 3/8 and 1/4
+  CHECK(count[1] > 35000);
+  CHECK(count[2] > 20000);
+  CHECK(worst[0] <= 3 * eps);
+  CHECK(worst[0] <= rodrigues[0]);
+  CHECK(orth[0] <= 4 * eps);
+  CHECK(worst[1] <= rodrigues[1]);
+  CHECK(worst[1] <= 5 * eps);
+  CHECK(orth[1] <= 2 * std::sqrt(3.0) * 5 * eps);
+  CHECK(worst[2] <= 5 * eps);
+  CHECK(orth[2] <= 2 * std::sqrt(3.0) * 5 * eps);
+  // Named cases: the identity exactly, a tiny angle, and the switches.
   CHECK(G::exp(G::Tangent::Zero()).matrix() == G::Matrix::Identity());
   const typename G::Matrix tiny = G::exp(typename G::Tangent(S(1e-20), S(0), S(0))).matrix();
   CHECK(tiny(2, 1) == S(1e-20));
@@ -232,6 +249,11 @@ TEMPLATE_TEST_CASE("SO3 exp against a long-double reference, on both sides of th
   const typename G::Matrix Rz = G::exp(typename G::Tangent(S(0), S(0), quarter)).matrix();
   CHECK(std::abs(static_cast<double>(Rz(1, 0)) - 1.0) <= 2 * eps);
   CHECK(std::abs(static_cast<double>(Rz(0, 0))) <= 2 * eps);
+  // The half turn about z (π rounded to S): C = diag(−1, −1, 1) to within the rounding of π.
+  const typename G::Matrix Rpi = G::exp(typename G::Tangent(S(0), S(0), lieservo::pi<S>())).matrix();
+  CHECK(std::abs(static_cast<double>(Rpi(0, 0)) + 1.0) <= 2 * eps);
+  CHECK(std::abs(static_cast<double>(Rpi(1, 0))) <= 2 * eps);
+  CHECK(Rpi(2, 2) == S(1));
 }
 
 TEST_CASE("SO3 float exp: the SSE matrix assembly equals the scalar one bit for bit", "[core][so3]") {

@@ -92,13 +92,17 @@ class SE3 {
   }
 
   /// Ad(X) = [[C, r^C], [0, C]] (eq. 30, eqn:se3_adjoint).
+  /// Written column by column (column j of r^C is r × C's column j): each column is stored
+  /// whole, once, with no 3×3 product and no temporary.
   Jacobian Ad() const {
     Jacobian A;
     const Matrix3& C = C_.rotationMatrix();
-    A.template topLeftCorner<3, 3>() = C;
-    A.template topRightCorner<3, 3>() = detail::skew(r_) * C;
-    A.template bottomLeftCorner<3, 3>().setZero();
-    A.template bottomRightCorner<3, 3>() = C;
+    for (int j = 0; j < 3; ++j) {
+      A.col(j).template head<3>() = C.col(j);
+      A.col(j).template tail<3>().setZero();
+      A.col(j + 3).template head<3>() = r_.cross(C.col(j));
+      A.col(j + 3).template tail<3>() = C.col(j);
+    }
     return A;
   }
   /// ad(ξ) = ξ⋏ = [[φ^, ρ^], [0, φ^]] (eq. 31, eqn:se3_algebra_adjoint).

@@ -57,18 +57,22 @@ class SO3 {
   }
 
   // ---- exp / log --------------------------------------------------------------------------
-  /// exp(φ^) = I + (sinθ/θ) φ^ + ((1 − cosθ)/θ²) φ^φ^ (Rodrigues). Any |φ| (also ≥ π).
-  /// Up to a quarter turn it is built from the unit quaternion (w, v) = (cos(θ/2),
-  /// (sin(θ/2)/θ) φ), whose two factors are short series in x = θ² (no square root, sin/cos
-  /// call or division); beyond, by Rodrigues with one sin/cos of θ/2.
-  static SO3 exp(const Tangent& phi) {
+  /// exp(φ^) = I + (sinθ/θ) φ^ + ((1 − cosθ)/θ²) φ^φ^ (Rodrigues). Any |φ|. Up to a half
+  /// turn no square root, sin/cos call or division is taken; every factor is a short series:
+  ///  - up to a quarter turn, the unit quaternion (w, v) = (cos(θ/2), (sin(θ/2)/θ) φ), its two
+  ///    factors as series in x = θ² (three terms for tiny angles);
+  ///  - beyond, where cos(θ/2) falls to 0 and the quaternion's matrix rounds worse, Rodrigues'
+  ///    own coefficients as series in x − π² (detail::kHalfTurnSeries; half the terms within
+  ///    about 0.05 rad of π).
+  /// Beyond a half turn, Rodrigues with one sin/cos of θ/2.
+  // The quarter turn inlined, the rest a call: most rotations a controller sees are small.
+  static EIGEN_ALWAYS_INLINE SO3 exp(const Tangent& phi) {
     const Scalar x = phi.squaredNorm();
-    if (x <= Scalar(Real(detail::kHalfAngleSeriesMaxX))) {
-      const auto kw = detail::lanesEval(detail::kHalfAngleSeries<Scalar>.a, x);
-      return fromHalfAngle(phi, kw(0), kw(1));
-    }
-    const detail::AngleTerms<Scalar> t(x);
-    return expWith(phi, t);
+    if (!(x <= Scalar(Real(detail::kHalfAngleSplitX)))) return expBeyondQuarterTurn(phi, x);
+    const auto kw = x < Scalar(Real(detail::halfAngleShortMaxX<Scalar>()))
+                        ? detail::lanesEval(detail::kHalfAngleShortSeries<Scalar>.a, x)
+                        : detail::lanesEval(detail::kHalfAngleSeries<Scalar>.a, x);
+    return fromHalfAngle(phi, kw(0), kw(1));
   }
 
   /// log(C)^∨ with θ = |φ| ∈ [0, π]: θ = atan2(sinθ, cosθ) from the antisymmetric part and the
@@ -282,11 +286,26 @@ class SO3 {
   }
 
   // ---- shared-trig kernels (public for SE(3); not part of the contract) ------------------
+  /// exp beyond a quarter turn (x = θ² = |φ|², also NaN): Rodrigues, with A and B as series
+  /// at π² up to the half turn.
+  static SO3 expBeyondQuarterTurn(const Tangent& phi, const Scalar& x) {
+    if (x <= Scalar(Real(detail::kHalfAngleSeriesMaxX))) {
+      const Scalar d = (x - Scalar(detail::kPiSquared<Real>.hi)) - Scalar(detail::kPiSquared<Real>.lo);
+      const auto AB = d > Scalar(-Real(detail::halfTurnShortMaxD<Scalar>()))
+                          ? detail::lanesEval(detail::kHalfTurnShortSeries<Scalar>.a, d)
+                          : detail::lanesEval(detail::kHalfTurnSeries<Scalar>.a, d);
+      return rodrigues(phi, x, AB(0), AB(1));
+    }
+    return expWith(phi, detail::AngleTerms<Scalar>(x));
+  }
   static SO3 expWith(const Tangent& phi, const detail::AngleTerms<Scalar>& t) {
-    const Scalar A = detail::coeffA(t), B = detail::coeffB(t);
-    // I + A φ^ + B φ^φ^, with φ^φ^ = φφᵀ − θ² I.
+    return rodrigues(phi, t.theta2, detail::coeffA(t), detail::coeffB(t));
+  }
+  /// I + A φ^ + B φ^φ^ for A = sinθ/θ, B = (1 − cosθ)/θ², x = θ² = |φ|².
+  static SO3 rodrigues(const Tangent& phi, const Scalar& x, const Scalar& A, const Scalar& B) {
+    // φ^φ^ = φφᵀ − θ² I.
     Matrix3 C = (B * phi) * phi.transpose();
-    const Scalar d = Scalar(1) - B * t.theta2;
+    const Scalar d = Scalar(1) - B * x;
     C(0, 0) += d;
     C(1, 1) += d;
     C(2, 2) += d;

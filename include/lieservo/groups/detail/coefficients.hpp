@@ -159,7 +159,8 @@ struct AngleTerms {
 // exp(φ^) is the rotation of the unit quaternion (w, v) = (cos(θ/2), (sin(θ/2)/θ) φ). Both
 // factors are even and entire in θ, so they are power series in x = θ² alone: no square root,
 // no sin/cos call, no division. Over θ ≤ π/2 (x ≤ π²/4) a few terms reach the precision of
-// the scalar, and the two series run side by side in one SIMD packet (lanesEval).
+// the scalar, and the two series run side by side in one SIMD packet (lanesEval). Beyond the
+// quarter turn exp takes Rodrigues' coefficients as series at the half turn (further below).
 
 /// sin(θ/2)/θ = Σ (−1)^n xⁿ / (2·4ⁿ·(2n+1)!), the n-th coefficient.
 constexpr long double halfSincTerm(int n) noexcept {
@@ -177,21 +178,49 @@ constexpr long double halfCosTerm(int n) noexcept {
   return (n % 2 == 0 ? 1.0L : -1.0L) / d;
 }
 
-/// x = θ² up to which exp uses the half-angle series: a quarter turn, (π/2)².
-constexpr long double kHalfAngleSeriesMaxX = 2.4674011002723396547086758650315838L;
+/// x = θ² at which exp changes from the quaternion's series to those at the half turn: a
+/// quarter turn, (π/2)².
+constexpr long double kHalfAngleSplitX = 2.4674011002723396547086758650315838L;
+/// x = θ² up to which exp uses the series at all: a half turn, π².
+constexpr long double kHalfAngleSeriesMaxX = 9.8696044010893586188344909998761511L;
+
+/// π² as a sum hi + lo of two numbers of the real type: d = (x − hi) − lo loses nothing to the
+/// rounding of π² (x − hi is exact for x ∈ [hi/2, 2 hi], Sterbenz).
+template <class Real>
+struct PiSquaredSplit {
+  Real hi, lo;
+};
+template <class Real>
+inline constexpr PiSquaredSplit<Real> kPiSquared{
+    static_cast<Real>(kHalfAngleSeriesMaxX),
+    static_cast<Real>(kHalfAngleSeriesMaxX - static_cast<long double>(static_cast<Real>(kHalfAngleSeriesMaxX)))};
+
+/// The larger of the two series' omitted terms after K terms at x, relative to their first.
+constexpr long double halfAngleOmitted(int K, long double x) noexcept {
+  long double xk = 1.0L;
+  for (int k = 0; k < K; ++k) xk *= x;
+  const long double s = halfSincTerm(K) / halfSincTerm(0) * xk, c = halfCosTerm(K) * xk;
+  const long double as = s < 0 ? -s : s, ac = c < 0 ? -c : c;
+  return as > ac ? as : ac;
+}
 
 /// The number of terms K for one scalar type: the first omitted term of each series stays
 /// below eps·|a0| at x = π²/4, the same rule as every other series here (series.hpp).
 template <class Scalar>
 constexpr int halfAngleTermCount() noexcept {
-  const long double eps = epsilonOf<Scalar>();
-  for (int K = 3; K < 40; ++K) {
-    long double xk = 1.0L;
-    for (int k = 0; k < K; ++k) xk *= kHalfAngleSeriesMaxX;
-    const long double s = halfSincTerm(K) * xk, c = halfCosTerm(K) * xk;
-    if ((s < 0 ? -s : s) < eps * halfSincTerm(0) && (c < 0 ? -c : c) < eps * halfCosTerm(0)) return K;
-  }
+  for (int K = 3; K < 40; ++K)
+    if (halfAngleOmitted(K, kHalfAngleSplitX) < epsilonOf<Scalar>()) return K;
   return 40;
+}
+
+/// x below which the first three terms already reach eps by the same rule (θ < 0.015 in double,
+/// 0.42 in float): exp takes them alone there, with no square root, and tiny angles never
+/// reach the high powers of x, which would underflow into subnormal numbers (slow on x86 at
+/// θ ≲ 1e-8 in float).
+template <class Scalar>
+constexpr long double halfAngleShortMaxX() noexcept {
+  const long double a3 = halfAngleOmitted(3, 1.0L);  // the larger omitted coefficient, relative
+  return constexprRoot(epsilonOf<Scalar>() / a3, 3);
 }
 
 /// The two series' coefficients for one scalar type, lane 0 sin(θ/2)/θ and lane 1 cos(θ/2),
@@ -212,6 +241,113 @@ struct HalfAngleSeries {
 
 template <class Scalar>
 inline constexpr HalfAngleSeries<Scalar> kHalfAngleSeries{};
+
+/// The first three terms of the same series (halfAngleShortMaxX).
+template <class Scalar>
+struct HalfAngleShortSeries {
+  using Real = RealOf<Scalar>;
+  static constexpr int L = HalfAngleSeries<Scalar>::L;
+  alignas(16) Real a[3][L];
+  constexpr HalfAngleShortSeries() noexcept : a() {
+    for (int n = 0; n < 3; ++n)
+      for (int l = 0; l < L; ++l) a[n][l] = kHalfAngleSeries<Scalar>.a[n][l];
+  }
+};
+
+template <class Scalar>
+inline constexpr HalfAngleShortSeries<Scalar> kHalfAngleShortSeries{};
+
+// ---- exp beyond the quarter turn: Rodrigues' coefficients as series at the half turn ------
+//
+// Near θ = π the half-angle factor cos(θ/2) falls to 0, and its series at x = 0 would form it
+// from terms of order one that cancel; the quaternion's matrix also rounds worse there than
+// Rodrigues' form. So beyond the quarter turn exp takes Rodrigues' A = sinθ/θ and
+// B = (1 − cosθ)/θ² as series at x0 = π², in d = x − π² ∈ [−3π²/4, 0], where A = −d/(2π²) + …
+// keeps its relative accuracy as it falls to 0. With f = cos(√x/2) and g = sin(√x/2)/√x,
+// A = 2fg and B = 2g², and f′ = −g/4, x g′ = f/4 − g/2 give f's and g's coefficients from
+// f₀ = 0, g₀ = 1/π by (n+1) f_{n+1} = −g_n/4 and x0 (n+1) g_{n+1} = f_n/4 − (n + 1/2) g_n (in
+// long double). By the omitted-term rule at |d| = 3π²/4 that is 13 terms in double, 8 in float.
+
+/// The first 24 coefficients of A (lane 0) and B (lane 1) at x0 = π².
+struct HalfTurnTerms {
+  long double A[24], B[24];
+  constexpr HalfTurnTerms() noexcept : A(), B() {
+    long double f[24] = {}, g[24] = {};
+    g[0] = 1.0L / 3.1415926535897932384626433832795029L;
+    for (int n = 0; n + 1 < 24; ++n) {
+      f[n + 1] = -g[n] / (4.0L * (n + 1));
+      g[n + 1] = (f[n] / 4.0L - (n + 0.5L) * g[n]) / (kHalfAngleSeriesMaxX * (n + 1));
+    }
+    for (int n = 0; n < 24; ++n)
+      for (int i = 0; i <= n; ++i) {
+        A[n] += 2.0L * f[i] * g[n - i];
+        B[n] += 2.0L * g[i] * g[n - i];
+      }
+  }
+};
+inline constexpr HalfTurnTerms kHalfTurnTerms{};
+
+/// The larger omitted term after K terms at |d| = 3π²/4: A's absolute (it falls to 0 at π and
+/// scales φ^, whose entries are of order one), B's relative to B₀ = B(π²) = 2/π².
+constexpr long double halfTurnOmitted(int K) noexcept {
+  long double dk = 1.0L;
+  for (int k = 0; k < K; ++k) dk *= kHalfAngleSeriesMaxX - kHalfAngleSplitX;
+  const long double a = kHalfTurnTerms.A[K] * dk, b = kHalfTurnTerms.B[K] / kHalfTurnTerms.B[0] * dk;
+  const long double aa = a < 0 ? -a : a, ab = b < 0 ? -b : b;
+  return aa > ab ? aa : ab;
+}
+
+template <class Scalar>
+constexpr int halfTurnTermCount() noexcept {
+  for (int K = 3; K < 23; ++K)
+    if (halfTurnOmitted(K) < epsilonOf<Scalar>()) return K;
+  return 23;
+}
+
+/// The two series at the half turn for one scalar type: lane 0 A, lane 1 B.
+template <class Scalar>
+struct HalfTurnSeries {
+  using Real = RealOf<Scalar>;
+  static constexpr int K = halfTurnTermCount<Scalar>();
+  static constexpr int L = HalfAngleSeries<Scalar>::L;
+  alignas(16) Real a[K][L];
+  constexpr HalfTurnSeries() noexcept : a() {
+    for (int n = 0; n < K; ++n) {
+      a[n][0] = static_cast<Real>(kHalfTurnTerms.A[n]);
+      a[n][1] = static_cast<Real>(kHalfTurnTerms.B[n]);
+    }
+  }
+};
+
+template <class Scalar>
+inline constexpr HalfTurnSeries<Scalar> kHalfTurnSeries{};
+
+/// Near the half turn itself half the terms suffice, for |d| below halfTurnShortMaxD (θ within
+/// 0.04 of π in double, 0.06 in float): a shorter chain there, as the three-term series near
+/// θ = 0. The omitted term is held below eps/8 there, not eps: A multiplies φ^, whose entries
+/// reach π, and the truncation at the cutoff should not add to the ulp the full series gets.
+template <class Scalar>
+struct HalfTurnShortSeries {
+  using Real = RealOf<Scalar>;
+  static constexpr int K = (HalfTurnSeries<Scalar>::K + 1) / 2;
+  static constexpr int L = HalfTurnSeries<Scalar>::L;
+  alignas(16) Real a[K][L];
+  constexpr HalfTurnShortSeries() noexcept : a() {
+    for (int n = 0; n < K; ++n)
+      for (int l = 0; l < L; ++l) a[n][l] = kHalfTurnSeries<Scalar>.a[n][l];
+  }
+};
+
+template <class Scalar>
+inline constexpr HalfTurnShortSeries<Scalar> kHalfTurnShortSeries{};
+
+template <class Scalar>
+constexpr long double halfTurnShortMaxD() noexcept {
+  constexpr int K = HalfTurnShortSeries<Scalar>::K;
+  const long double a = kHalfTurnTerms.A[K] < 0 ? -kHalfTurnTerms.A[K] : kHalfTurnTerms.A[K];
+  const long double b0 = kHalfTurnTerms.B[K] / kHalfTurnTerms.B[0], b = b0 < 0 ? -b0 : b0;
+  return constexprRoot(epsilonOf<Scalar>() / (8.0L * (a > b ? a : b)), K);
+}
 
 /// sinθ/θ.
 template <class Scalar>

@@ -147,26 +147,39 @@ inline Eigen::Matrix<Scalar, 4, 1> quaternionFromMatrix(const Eigen::Matrix<Scal
 /// n = |s| and factor = θ/n, so that θ·a = factor·s. Near θ = 0 the factor uses the series of
 /// atan(y)/y in y² = n²/c² (no 0/0); elsewhere an arctangent is accurate for every θ (no acos,
 /// so no NaN when rounding pushes a cosine past ±1). The arctangent is atan of the smaller over
-/// the larger of n and |c| (θ ≤ π/4: atan(n/c); beyond: π/2 − atan(c/n)): one division adds
-/// ½ ulp, and glibc's atan is about 3× faster than its atan2 (14 against 40 ns here), which
-/// was the largest single cost of log(). Shared by both logarithm paths below.
-template <class Scalar>
+/// the larger of n and |c| (θ ≤ π/4: atan(n/c); beyond: π/2 − atan(c/n), both divisions by n
+/// through one reciprocal, and the series again where c/n is small): glibc's atan is about 3×
+/// faster than its atan2 (14 against 40 ns here), which was the largest single cost of log().
+/// With WithAngle false only `factor` is formed (on the series path n and θ are not needed for
+/// the rotation vector: no square root). Shared by both logarithm paths below.
+template <class Scalar, bool WithAngle = true>
 struct AngleFromSinCos {
   Scalar n, theta, factor;
   EIGEN_ALWAYS_INLINE AngleFromSinCos(const Scalar& n2, const Scalar& c) {
     using std::atan;
     using std::sqrt;
-    n = sqrt(n2);
     if (c > Scalar(0) && n2 < Scalar(Cutoffs<Scalar>::Atan) * c * c) {
-      factor = hornerEval(kSeriesAtan, n2 / (c * c)) / c;
-      theta = factor * n;
+      const Scalar inv_c = Scalar(RealOf<Scalar>(1)) / c;
+      factor = hornerEval(kSeriesAtan, n2 * (inv_c * inv_c)) * inv_c;
+      if (WithAngle) {
+        n = sqrt(n2);
+        theta = factor * n;
+      }
       return;
     }
-    if (c >= n)
+    n = sqrt(n2);
+    if (c >= n) {
       theta = atan(n / c);
-    else
-      theta = Scalar(pi<RealOf<Scalar>>() / RealOf<Scalar>(2)) - atan(c / n);
-    factor = theta / n;
+      factor = theta / n;
+      return;
+    }
+    const Scalar inv_n = Scalar(RealOf<Scalar>(1)) / n, z = c * inv_n;
+    const Scalar z2 = z * z;
+    // Small z (the half angle near π/2, i.e. θ near π in the quaternion's form): atan(z) by the
+    // same series and cutoff as the branch above, no atan call.
+    const Scalar atan_z = z2 < Scalar(Cutoffs<Scalar>::Atan) ? z * hornerEval(kSeriesAtan, z2) : atan(z);
+    theta = Scalar(pi<RealOf<Scalar>>() / RealOf<Scalar>(2)) - atan_z;
+    factor = theta * inv_n;
   }
 };
 
@@ -183,15 +196,51 @@ inline Eigen::Matrix<Scalar, 3, 1> rotationVectorFromQuaternion(const Eigen::Mat
   return (two * half.factor) * q.template tail<3>();
 }
 
+/// log(C)^∨ for tr C ≤ 0 (θ ≥ 2π/3), from Shepperd's quaternion left unnormalised. Row i of
+/// the symmetric 4×4 matrix of Bar-Itzhack's method is 4 q_i (w, x, y, z): (C_kj − C_jk,
+/// 1 + C_ii − C_jj − C_kk at i, C_ij + C_ji at j, C_ik + C_ki at k) for (i, j, k) cyclic. The
+/// row of the largest diagonal entry (the pivot of quaternionFromMatrix; for tr C ≤ 0 the trace
+/// never is) has its own entry ≥ 1. No square root and no division (the angle step is
+/// scale-invariant). Each component is selected from the three rows by value, and w's sign
+/// moves to v by copysign, so that a random axis costs no mispredicted branch (a table of rows
+/// indexed by the pivot would stall: the loads wait on the stores). Q_w = 0 exactly (θ = π)
+/// takes quaternionFromMatrix for its sign rule.
+template <class Scalar>
+inline Eigen::Matrix<Scalar, 3, 1> rotationVectorNearPi(const Eigen::Matrix<Scalar, 3, 3>& C,
+                                                        AngleTerms<Scalar>* terms) {
+  using std::abs;
+  using std::copysign;
+  using std::sqrt;
+  using Real = RealOf<Scalar>;
+  const Scalar one(Real(1));
+  const bool y = C(1, 1) > C(0, 0);
+  const bool z = C(2, 2) > (y ? C(1, 1) : C(0, 0));  // ties keep the first, as Shepperd's pivot
+  const Scalar s01 = C(0, 1) + C(1, 0), s02 = C(0, 2) + C(2, 0), s12 = C(1, 2) + C(2, 1);
+  const Scalar qw = z ? C(1, 0) - C(0, 1) : y ? C(0, 2) - C(2, 0) : C(2, 1) - C(1, 2);
+  if (qw == Scalar(0)) return rotationVectorFromQuaternion(quaternionFromMatrix(C), terms);
+  const Scalar qx = z ? s02 : y ? s01 : one + C(0, 0) - C(1, 1) - C(2, 2);
+  const Scalar qy = z ? s12 : y ? one - C(0, 0) + C(1, 1) - C(2, 2) : s01;
+  const Scalar qz = z ? one - C(0, 0) - C(1, 1) + C(2, 2) : y ? s12 : s02;
+  const Scalar sign = copysign(one, qw);  // w ≥ 0: its sign goes to v
+  const Eigen::Matrix<Scalar, 3, 1> v(sign * qx, sign * qy, sign * qz);
+  const Scalar w = abs(qw);
+  const Scalar n2 = v.squaredNorm();
+  if (!terms) return (Scalar(Real(2)) * AngleFromSinCos<Scalar, false>(n2, w).factor) * v;
+  const AngleFromSinCos<Scalar> half(n2, w);
+  const Scalar inv = one / sqrt(n2 + w * w);
+  *terms = AngleTerms<Scalar>::fromHalfAngle(Scalar(Real(2)) * half.theta, half.n * inv, w * inv);
+  return (Scalar(Real(2)) * half.factor) * v;
+}
+
 /// log(C)^∨ of a rotation matrix, θ ∈ [0, π]. For tr C > 0 (θ < 2π/3) the antisymmetric part
 /// gives s = 2 sinθ·axis and the trace c = 1 + 2 cosθ − 1 = 2 cosθ directly: the axis error is
 /// ~ε/sinθ ≤ 1.2ε there, and this costs one sqrt and one atan2. Towards π sinθ → 0 and s is all
-/// rounding, so the axis comes from Shepperd's quaternion instead (θ = π exactly: its sign
-/// rule). With `terms`, also the AngleTerms of θ from the same sine and cosine (no sin/cos call:
+/// rounding, so the axis comes from Shepperd's quaternion instead (rotationVectorNearPi).
+/// With `terms`, also the AngleTerms of θ from the same sine and cosine (no sin/cos call:
 /// log and J⁻¹ share the trigonometric work).
 // Always inlined: in a translation unit with many call sites GCC otherwise keeps it (and the
-// angle step above) out of line, and the calls cost a fifth of a controller step. The rare
-// quaternion branch stays a call.
+// angle step above) out of line, and the calls cost a fifth of a controller step. The rarer
+// branch near π stays a call.
 template <class Scalar>
 EIGEN_ALWAYS_INLINE Eigen::Matrix<Scalar, 3, 1> rotationVectorFromMatrix(const Eigen::Matrix<Scalar, 3, 3>& C,
                                                             AngleTerms<Scalar>* terms = nullptr) {
@@ -200,14 +249,13 @@ EIGEN_ALWAYS_INLINE Eigen::Matrix<Scalar, 3, 1> rotationVectorFromMatrix(const E
   if (t > Scalar(0)) {
     const Eigen::Matrix<Scalar, 3, 1> s(C(2, 1) - C(1, 2), C(0, 2) - C(2, 0), C(1, 0) - C(0, 1));
     const Scalar c = t - Scalar(Real(1));
+    if (!terms) return AngleFromSinCos<Scalar, false>(s.squaredNorm(), c).factor * s;
     const AngleFromSinCos<Scalar> a(s.squaredNorm(), c);
-    if (terms) {
-      const Scalar half(Real(0.5));
-      *terms = AngleTerms<Scalar>::fromSinCos(a.theta, half * a.n, half * c);
-    }
+    const Scalar half(Real(0.5));
+    *terms = AngleTerms<Scalar>::fromSinCos(a.theta, half * a.n, half * c);
     return a.factor * s;
   }
-  return rotationVectorFromQuaternion(quaternionFromMatrix(C), terms);
+  return rotationVectorNearPi(C, terms);
 }
 
 }  // namespace detail
