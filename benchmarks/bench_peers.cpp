@@ -5,7 +5,8 @@
 // 1. Accuracy (printed first): the SO(3) left-Jacobian coefficients B = (1 − cosθ)/θ²,
 //    C = (θ − sinθ)/θ³ and the inverse-Jacobian coefficient D = (1 − (θ/2)cot(θ/2))/θ², read
 //    back exactly from each library's 3×3 matrices (φ = (a, a, 0): J(2,1) = B a, J(0,1) = C a²,
-//    J⁻¹(0,1) = D a²), against an independent long-double Taylor series, for θ ∈ [1e-9, 1e-3].
+//    J⁻¹(0,1) = D a²), against an independent long-double Taylor series, for θ ∈ [1e-9, 1e-3];
+//    and the angle of the SO(3) log in float for θ ∈ [1e-4, 1e-2], in ulps.
 // 2. Speed, every library on the same inputs in the same run (names <op>/<library>):
 //    SE(3) exp, log, Ad, left Jacobian and its inverse, compose, inverse, act; SO(3) exp and
 //    log; double and float. The tangents have angles up to 1 rad; SO(3) exp is also timed on
@@ -18,6 +19,7 @@
 //    conversion from one), which is what lieservo's calls do.
 #include <benchmark/benchmark.h>
 
+#include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -87,6 +89,21 @@ void coefficientErrors(const char* library, JacobianFn J_of, InverseFn Jinv_of) 
   std::printf("  %-10s  B %.2e   C %.2e   D %.2e\n", library, worst[0], worst[1], worst[2]);
 }
 
+// The worst error of the SO(3) log's angle in float for θ ∈ [1e-4, 1e-2] (201 log-spaced points
+// about (0.6, 0.8, 0)), in float ulps of the angle; each library's reference is the angle of its
+// own float input (lieservo: the matrix, in long double; the peers: the quaternion).
+template <class Angle>
+void smallLogError(const char* library, Angle angle_and_reference) {
+  double worst = 0;
+  for (int i = 0; i <= 200; ++i) {
+    const double theta = std::pow(10.0, -4.0 + 2.0 * i / 200.0);
+    long double reference = 0;
+    const long double angle = angle_and_reference(theta, reference);
+    worst = std::max(worst, double(std::fabs(angle - reference) / reference) / double(FLT_EPSILON));
+  }
+  std::printf("  %-10s  %.1f ulp\n", library, worst);
+}
+
 void accuracyReport() {
   std::printf("SO(3) Jacobian coefficients, max relative error for theta in [1e-9, 1e-3] (121 points, double):\n");
   std::printf("  B = (1-cos t)/t^2 (J), C = (t-sin t)/t^3 (J), D = (1-(t/2)cot(t/2))/t^2 (J^-1)\n");
@@ -102,6 +119,32 @@ void accuracyReport() {
                     [](const Eigen::Vector3d& p) { return manif::SO3Tangentd(p).ljacinv(); });
 #endif
   std::printf("\n");
+  std::printf("SO(3) log in float, theta in [1e-4, 1e-2] (201 points): worst error of the angle\n");
+  const Eigen::Vector3f axis(0.6f, 0.8f, 0.f);
+  smallLogError("lieservo", [&](double t, long double& ref) {
+    const Eigen::Matrix3f C = Eigen::AngleAxisf(float(t), axis).toRotationMatrix();
+    ref = lieservo::SO3<long double>::fromMatrixUnchecked(C.cast<long double>()).log().norm();
+    return (long double)lieservo::SO3f::fromMatrixUnchecked(C).log().norm();
+  });
+  const auto quaternionAngle = [](const Eigen::Quaternionf& q) {
+    const long double n = std::sqrt((long double)q.x() * q.x() + (long double)q.y() * q.y() + (long double)q.z() * q.z());
+    return 2 * std::atan2(n, (long double)q.w());
+  };
+  (void)quaternionAngle;  // unused without a peer
+#ifdef LIESERVO_HAVE_SOPHUS
+  smallLogError("Sophus", [&](double t, long double& ref) {
+    const Eigen::Quaternionf q = Eigen::Quaternionf(Eigen::AngleAxisf(float(t), axis)).normalized();
+    ref = quaternionAngle(q);
+    return (long double)Sophus::SO3f(q).log().norm();
+  });
+#endif
+#ifdef LIESERVO_HAVE_MANIF
+  smallLogError("manif", [&](double t, long double& ref) {
+    const Eigen::Quaternionf q = Eigen::Quaternionf(Eigen::AngleAxisf(float(t), axis)).normalized();
+    ref = quaternionAngle(q);
+    return (long double)manif::SO3f(q).log().coeffs().norm();
+  });
+#endif
 }
 
 // ---- speed ----------------------------------------------------------------------------------
