@@ -182,14 +182,16 @@ TEMPLATE_TEST_CASE("SO3 exp against a long-double reference, on each of its thre
   //  - π/2 < θ ≤ π, which Rodrigues (sin/cos) served before: no more than Rodrigues on the same
   //    φ, and the bounds that held there: ≤ 5 eps, ‖CᵀC − I‖ ≤ 2√3·5 eps;
   //  - θ > π: ≤ 5 eps, ‖CᵀC − I‖ ≤ 2√3·5 eps (its entry bound; it measures 5.7–6.6 eps).
-  // A quarter of the samples lie within a relative 1e-6 of θ = π, an eighth within 1e-6 of the
-  // quarter turn and an eighth within 1e-3 of the short series' end, on either side; an eighth
-  // beyond π (up to 3π/2: exp's callers pass θ ≤ π, as log returns).
+  // An eighth of the samples each lie within a relative 1e-6 of θ = π, within 1e-6 of the
+  // quarter turn, within 1e-3 of the three-term series' end and within 1e-3 of the end of the
+  // short form at π (halfTurnShortMaxD), on either side; an eighth beyond π (up to 3π/2:
+  // exp's callers pass θ ≤ π, as log returns); three eighths uniform in [0, π).
   using S = TestType;
   using ld = long double;
   using G = SO3<S>;
   const double eps = lst::epsOf<S>(), pi = lieservo::pi<double>();
   const double short_end = std::sqrt(static_cast<double>(lieservo::detail::halfAngleShortMaxX<S>()));
+  const double half_turn_short_end = std::sqrt(pi * pi - static_cast<double>(lieservo::detail::halfTurnShortMaxD<S>()));
   lieservo::sampling::Rng rng(2026);
   double worst[3] = {}, rodrigues[3] = {}, orth[3] = {}, worst_at[3] = {};
   int count[3] = {};
@@ -198,7 +200,8 @@ TEMPLATE_TEST_CASE("SO3 exp against a long-double reference, on each of its thre
     const double angle = i % 8 == 0   ? uniform(rng, pi, 1.5 * pi)
                          : i % 8 == 1 ? pi / 2 * (1 + 1e-6 * jitter)
                          : i % 8 == 2 ? short_end * (1 + 1e-3 * jitter)
-                         : i % 4 == 3 ? pi * (1 + 1e-6 * jitter)
+                         : i % 8 == 3 ? pi * (1 + 1e-6 * jitter)
+                         : i % 8 == 7 ? half_turn_short_end * (1 + 1e-3 * jitter)
                                       : uniform(rng, 0.0, pi);
     const typename G::Tangent phi = lst::tangentWithAngle<G>(rng, angle, 0.0);
     const typename G::Matrix C = G::exp(phi).matrix();
@@ -229,9 +232,9 @@ TEMPLATE_TEST_CASE("SO3 exp against a long-double reference, on each of its thre
             << " (Rodrigues on the same phi: " << rodrigues[r] / eps << " eps); orthonormality " << orth[r] / eps
             << " eps\n";
   INFO(summary.str());
-  CHECK(count[0] > 35000);  // 3/8 of the samples by construction, 3/8 and 1/4
-  CHECK(count[1] > 35000);
-  CHECK(count[2] > 20000);
+  CHECK(count[0] > 35000);  // 6/16 of the samples by construction, 7/16 and 3/16
+  CHECK(count[1] > 40000);
+  CHECK(count[2] > 15000);
   CHECK(worst[0] <= 3 * eps);
   CHECK(worst[0] <= rodrigues[0]);
   CHECK(orth[0] <= 4 * eps);

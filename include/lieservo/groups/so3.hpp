@@ -63,7 +63,7 @@ class SO3 {
   ///    factors as series in x = θ² (three terms for tiny angles);
   ///  - beyond, where cos(θ/2) falls to 0 and the quaternion's matrix rounds worse, Rodrigues'
   ///    own coefficients as series in x − π² (detail::kHalfTurnSeries; half the terms within
-  ///    about 0.05 rad of π).
+  ///    0.029 rad of π).
   /// Beyond a half turn, Rodrigues with one sin/cos of θ/2.
   // The quarter turn inlined, the rest a call: most rotations a controller sees are small.
   static EIGEN_ALWAYS_INLINE SO3 exp(const Tangent& phi) {

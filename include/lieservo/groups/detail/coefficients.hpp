@@ -323,9 +323,10 @@ template <class Scalar>
 inline constexpr HalfTurnSeries<Scalar> kHalfTurnSeries{};
 
 /// Near the half turn itself half the terms suffice, for |d| below halfTurnShortMaxD (θ within
-/// 0.04 of π in double, 0.06 in float): a shorter chain there, as the three-term series near
-/// θ = 0. The omitted term is held below eps/8 there, not eps: A multiplies φ^, whose entries
-/// reach π, and the truncation at the cutoff should not add to the ulp the full series gets.
+/// 0.029 rad of π): a shorter chain there, as the three-term series near θ = 0. The omitted
+/// term is held below eps/64 there, not eps: A multiplies φ^, whose entries reach π, and at the
+/// cutoff the truncation must not make exp less accurate than Rodrigues with sin/cos
+/// (tests/groups/test_so3.cpp samples that end).
 template <class Scalar>
 struct HalfTurnShortSeries {
   using Real = RealOf<Scalar>;
@@ -346,7 +347,7 @@ constexpr long double halfTurnShortMaxD() noexcept {
   constexpr int K = HalfTurnShortSeries<Scalar>::K;
   const long double a = kHalfTurnTerms.A[K] < 0 ? -kHalfTurnTerms.A[K] : kHalfTurnTerms.A[K];
   const long double b0 = kHalfTurnTerms.B[K] / kHalfTurnTerms.B[0], b = b0 < 0 ? -b0 : b0;
-  return constexprRoot(epsilonOf<Scalar>() / (8.0L * (a > b ? a : b)), K);
+  return constexprRoot(epsilonOf<Scalar>() / (64.0L * (a > b ? a : b)), K);
 }
 
 /// sinθ/θ.
