@@ -3,7 +3,8 @@
 //
 //   lieservo_demo [--out DIR] [--seed N] [--trials N] [--rate HZ] [--quick] [--no-files]
 //                 [--calibration card|paper] [--observations auto|real|gaussian] [--data DIR]
-//                 [--model-card FILE] [--skin-friction MU] [--randomise]   (--help: all of them)
+//                 [--model-card FILE] [--skin-friction MU] [--randomise] [--video] [--no-pictures]
+//                 (--help: all of them)
 //
 // Exit status (lieservo_cli/cli.hpp): 0 when every task met its success criteria, 1 when one
 // missed them, 2 on bad usage or set-up (a malformed option, missing data, an unreadable image
@@ -18,6 +19,8 @@
 #include <cstring>
 #include <string>
 #include <limits>
+#include <type_traits>
+#include <memory>
 #include <new>
 #include <vector>
 
@@ -27,6 +30,9 @@
 #include "lieservo_sim/tasks.hpp"
 #ifdef LIESERVO_DEMO_WITH_REAL_OBSERVATIONS
 #include "lieservo_sim/real_observation.hpp"
+#endif
+#ifdef LIESERVO_DEMO_WITH_RENDER
+#include "lieservo_sim/render.hpp"
 #endif
 
 #ifdef LIESERVO_DEMO_WITH_REPLAY
@@ -80,11 +86,13 @@ std::string html(const std::string& text) {
 }
 
 // One page of results: the summary table beside the paper's numbers, every figure in the
-// results folder (SVG and PNG, its subfolders included) and links to the CSV logs.
+// results folder (SVG and PNG, its subfolders included) and links to the CSV logs. The
+// pictures of a plot `X.svg` (its time-lapses, strips of frames and videos, in the folder `X/`)
+// follow it, side by side.
 bool writeIndex(const std::string& dir, const std::string& heading, const std::vector<Row>& rows,
                 const std::vector<std::string>& failures) {
   namespace fs = std::filesystem;
-  std::vector<std::string> figures, logs;
+  std::vector<std::string> figures, logs, videos;
   std::error_code ec;
   for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator();
        it.increment(ec)) {
@@ -93,14 +101,29 @@ bool writeIndex(const std::string& dir, const std::string& heading, const std::v
     const std::string rel = fs::relative(it->path(), dir, ec).generic_string();
     if (ext == ".svg" || ext == ".png") figures.push_back(rel);
     else if (ext == ".csv") logs.push_back(rel);
+    else if (ext == ".mp4" || ext == ".webm") videos.push_back(rel);
   }
   std::sort(figures.begin(), figures.end());
   std::sort(logs.begin(), logs.end());
+  std::sort(videos.begin(), videos.end());
+  // The folder X/ of a plot X.svg: its pictures.
+  auto folderOf = [](const std::string& rel) { return rel.substr(0, rel.find_last_of('/') + 1); };
+  auto isPlot = [](const std::string& rel) {
+    return rel.size() > 4 && rel.compare(rel.size() - 4, 4, ".svg") == 0 && rel.find('/') == std::string::npos;
+  };
+  std::vector<std::string> plot_folders;
+  for (const auto& x : figures)
+    if (isPlot(x)) plot_folders.push_back(x.substr(0, x.size() - 4) + "/");
+  auto belongs = [&](const std::string& rel) {
+    return std::find(plot_folders.begin(), plot_folders.end(), folderOf(rel)) != plot_folders.end();
+  };
   std::ofstream f(dir + "/index.html");
   f << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>lieservo results</title>\n"
        "<style>body{font-family:sans-serif;margin:2em}table{border-collapse:collapse}"
        "td,th{border:1px solid #ccc;padding:2px 6px}.no{color:#b00;font-weight:bold}"
-       "img{max-width:100%;border:1px solid #eee;margin:8px 0}</style></head><body>\n"
+       "img{max-width:100%;border:1px solid #eee;margin:8px 0}.pictures{display:flex;flex-wrap:wrap;gap:8px}"
+       ".pictures figure{margin:0;flex:1 1 45%;max-width:49%}figcaption{font-size:small;color:#555}"
+       "</style></head><body>\n"
     << "<h1>lieservo: the paper's four tasks in simulation</h1>\n<pre>" << html(heading) << "</pre>\n"
     << "<h2>Summary beside the paper</h2>\n<table><tr><th>task</th><th>quantity</th><th>simulation</th>"
        "<th>paper</th><th>pass</th></tr>\n";
@@ -114,7 +137,22 @@ bool writeIndex(const std::string& dir, const std::string& heading, const std::v
     f << "</ul>\n";
   }
   f << "<h2>Figures</h2>\n";
-  for (const auto& x : figures) f << "<h3>" << html(x) << "</h3>\n<img src=\"" << html(x) << "\" alt=\"" << html(x) << "\">\n";
+  for (const auto& x : figures) {
+    if (belongs(x)) continue;  // shown under its plot
+    f << "<h3>" << html(x) << "</h3>\n<img src=\"" << html(x) << "\" alt=\"" << html(x) << "\">\n";
+    if (!isPlot(x)) continue;
+    const std::string folder = x.substr(0, x.size() - 4) + "/";
+    bool open = false;
+    for (const auto& p : figures)
+      if (folderOf(p) == folder) {
+        if (!open) f << "<div class=\"pictures\">\n", open = true;
+        f << "<figure><img class=\"picture\" src=\"" << html(p) << "\" alt=\"" << html(p) << "\"><figcaption>"
+          << html(p) << "</figcaption></figure>\n";
+      }
+    if (open) f << "</div>\n";
+    for (const auto& v : videos)
+      if (folderOf(v) == folder) f << "<p>video: <a href=\"" << html(v) << "\">" << html(v) << "</a></p>\n";
+  }
   f << "<h2>Logs</h2>\n<ul>\n";
   for (const auto& x : logs) f << "<li><a href=\"" << html(x) << "\">" << html(x) << "</a></li>\n";
   f << "</ul>\n</body></html>\n";
@@ -132,7 +170,7 @@ static int run(int argc, char** argv) {
   std::string data_dir = LIESERVO_DEFAULT_DATA_DIR;
   std::string model_card = LIESERVO_SIM_MODEL_CARD;
   int trials = 5;
-  bool quick = false, no_files = false;
+  bool quick = false, no_files = false, no_pictures = false, video = false;
   CLI::App app("lieservo_demo: the paper's four tasks in simulation (MuJoCo) and the real-data replay, one\n"
                "summary table beside the paper's numbers. Exit status: 0 every task met its criteria, 1 a\n"
                "task missed them, 2 bad usage or set-up (the message names the option or file).",
@@ -146,6 +184,8 @@ static int run(int argc, char** argv) {
   app.add_option("--rate", opt.control_rate, "tactile control rate (Hz)")->capture_default_str()->check(cli::finiteIn(1, 1000));
   app.add_flag("--quick", quick, "shortened runs (duration scale 0.3; 2 trials unless --trials is given)");
   app.add_flag("--no-files", no_files, "do not write plots and logs");
+  app.add_flag("--no-pictures", no_pictures, "no time-lapses or strips of frames (rendered offscreen; plots and logs still)");
+  app.add_flag("--video", video, "also a video of each task's run (trial 1 of each pushing case); slow, off by default");
   app.add_option("--observations", observations,
                  "'real': the card's GDN on the nearest labelled TacTip image it did not train on; 'gaussian': "
                  "the calibrated Gaussian model; 'auto': real when the data set is there")
@@ -240,6 +280,46 @@ static int run(int argc, char** argv) {
 #endif
     return false;
   };
+  // The pictures of the runs, drawn from their logged states after each task (render.hpp):
+  // never part of a result. Without a renderer the page shows the plots alone.
+  const bool pictures = !opt.out_dir.empty() && !no_pictures;
+  double picture_seconds = 0;
+  std::size_t picture_count = 0, video_count = 0;
+#ifdef LIESERVO_DEMO_WITH_RENDER
+  std::unique_ptr<render::Renderer> renderer;
+  bool renderer_failed = false;
+#else
+  if (pictures)
+    std::printf("no time-lapses: this build has no offscreen renderer (it needs OSMesa, apt install "
+                "libosmesa6-dev, and LIESERVO_BUILD_RENDER on); the page shows the plots alone\n");
+  if (video) std::printf("--video: ignored, this build has no offscreen renderer\n");
+#endif
+  auto drawPictures = [&](const auto& result) {
+#ifdef LIESERVO_DEMO_WITH_RENDER
+    if (!pictures || renderer_failed) return;
+    const auto t = Clock::now();
+    try {
+      if (!renderer) renderer = std::make_unique<render::Renderer>(640, 480);
+      render::Written w;
+      using Result = std::decay_t<decltype(result)>;
+      if constexpr (std::is_same_v<Result, TrackingResult>)
+        render::writeTrackingPictures(*renderer, result, opt.out_dir, video, w);
+      else if constexpr (std::is_same_v<Result, FollowingResult>)
+        render::writeFollowingPictures(*renderer, result, opt.out_dir, video, w);
+      else
+        render::writePushingPictures(*renderer, result, opt.out_dir, video, w);
+      picture_count += w.images.size();
+      video_count += w.videos.size();
+      for (const auto& p : w.problems) std::printf("      pictures: %s\n", p.c_str());
+    } catch (const render::RenderError& e) {
+      std::printf("      no time-lapses: %s (the page shows the plots alone)\n", e.what());
+      renderer_failed = true;
+    }
+    picture_seconds += seconds(t);
+#else
+    (void)result;
+#endif
+  };
   const auto t_all = Clock::now();
   std::vector<Row> rows;
   std::vector<std::string> failures, reported;
@@ -266,6 +346,7 @@ static int run(int argc, char** argv) {
     sim_seconds += tr.sim_time;
     ok = ok && tr.success;
     if (observationsFailed()) return lieservo::cli::kUsageOrSetup;
+    drawPictures(tr);
 
     // (b) surface following
     t0 = Clock::now();
@@ -285,6 +366,7 @@ static int run(int argc, char** argv) {
     sim_seconds += fr.sim_time;
     ok = ok && fr.success;
     if (observationsFailed()) return lieservo::cli::kUsageOrSetup;
+    drawPictures(fr);
 
     // (c) single-arm pushing
     t0 = Clock::now();
@@ -300,6 +382,7 @@ static int run(int argc, char** argv) {
     ok = ok && sp.success;
     sim_seconds += sp.sim_time;
     if (observationsFailed()) return lieservo::cli::kUsageOrSetup;
+    drawPictures(sp);
 
     // (d) dual-arm pushing: the paper's decentralised follower (its round objects reported),
     // then the centralised follower; the tall objects pushed by one arm on foam (reported: how
@@ -323,6 +406,7 @@ static int run(int argc, char** argv) {
     };
     dualRows(dp, "dual-arm push");
     if (observationsFailed()) return lieservo::cli::kUsageOrSetup;
+    drawPictures(dp);
     t0 = Clock::now();
     std::printf("      the centralised follower (Section 3.3.4's alternative, not the paper's controller) ... ");
     std::fflush(stdout);
@@ -330,6 +414,7 @@ static int run(int argc, char** argv) {
     std::printf("%s (%.0f s simulated, %.1f s)\n", cp.success ? "ok" : "FAILED", cp.sim_time, seconds(t0));
     dualRows(cp, "dual, centralised");
     if (observationsFailed()) return lieservo::cli::kUsageOrSetup;
+    drawPictures(cp);
     if (!opt.out_dir.empty()) writeOppositionPlot(dp, cp, opt.out_dir + "/pushing_dual_opposition.svg");
     t0 = Clock::now();
     std::printf("      tall objects pushed by one arm on the compliant foam (reported: how many topple) ... ");
@@ -342,6 +427,7 @@ static int run(int argc, char** argv) {
     }
     sim_seconds += tp.sim_time;
     if (observationsFailed()) return lieservo::cli::kUsageOrSetup;
+    drawPictures(tp);
     t0 = Clock::now();
     std::printf("      toppling thresholds on a rigid support (mu_s 0.35) by statics and by the engine ... ");
     std::fflush(stdout);
@@ -398,6 +484,9 @@ static int run(int argc, char** argv) {
     else
       std::printf("plots (SVG) and logs (CSV) in %s/ (index.html could not be written)\n", opt.out_dir.c_str());
   }
+  if (picture_count + video_count > 0)
+    std::printf("pictures: %zu time-lapses and strips of frames%s, drawn offscreen in %.1f s\n", picture_count,
+                video ? (", " + std::to_string(video_count) + " videos").c_str() : "", picture_seconds);
   for (const auto& f : reported) std::printf("reported (does not decide): %s\n", f.c_str());
   for (const auto& f : failures) std::printf("FAILED: %s\n", f.c_str());
   const double wall = seconds(t_all);

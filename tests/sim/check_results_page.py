@@ -2,7 +2,7 @@
 """demo.page: opens the demo's results page in headless Chromium and fails if a figure is
 missing or blank.
 
-Usage: check_results_page.py RESULTS_DIR [--self-test]
+Usage: check_results_page.py RESULTS_DIR [--self-test] [--expect-pictures]
 
 For RESULTS_DIR/index.html (written by lieservo_demo) it
   1. loads a copy of the page with a probe script appended in Chromium (--dump-dom), which
@@ -11,9 +11,16 @@ For RESULTS_DIR/index.html (written by lieservo_demo) it
   2. takes a full-page screenshot of the same copy at the same width;
   3. checks each figure's box in the screenshot: at least MIN_SIZE pixels each way and at
      least MIN_INK of its pixels drawn (darker than the white background).
+  4. for each time-lapse of a pushing case (<img class="picture">, RESULTS_DIR/<plot>/<object>.png),
+     reads the PNG itself and requires the object's colour in it: at least MIN_OBJECT of the
+     pixels below the caption bar fall in the object's colour class (OBJECT_COLOURS, HSV);
+     the supports, the sensors, the target and the paths fall in none of them.
+  5. with --expect-pictures (a build with the renderer), that every pushing plot (but the
+     opposition angles), the tracking errors and both following plots have their pictures on
+     the page.
 With --self-test it first checks itself: in a scratch copy of the results it blanks one
-figure (a white SVG of the same size) and points another <img> at a file that is not there,
-and requires both to be reported.
+figure (a white SVG of the same size), points another <img> at a file that is not there and,
+when the page has time-lapses, paints one of them grey, and requires all to be reported.
 
 Exit status: 0 pass, 1 fail, 77 (CTest's skip) when Chromium or OpenCV is not installed.
 """
@@ -29,6 +36,20 @@ MIN_SIZE = 100     # px: a figure drawn smaller than this is not readable
 MIN_INK = 0.005    # fraction of the figure's pixels darker than the background
 BACKGROUND = 240   # a pixel whose darkest channel is below this counts as ink
 WIDTH = 1280       # browser window width (px)
+MIN_OBJECT = 0.002  # fraction of a time-lapse's pixels in the object's colour class
+CAPTION = 26        # px: the caption bar at the top of each rendered frame (white)
+
+# OpenCV HSV (H 0-180, S and V 0-255): (H ranges, minimum S, minimum V) per colour class,
+# and the class of each object by a word of its name (examples/sim/src/task_common.cpp).
+COLOUR_CLASSES = {
+    "blue": ([(100, 130)], 100, 50),
+    "red": ([(0, 6), (174, 180)], 150, 60),
+    "yellow": ([(18, 35)], 120, 100),
+    "green": ([(45, 85)], 80, 40),
+    "cyan": ([(86, 99)], 50, 150),
+}
+OBJECT_COLOURS = {"blue": "blue", "windex": "blue", "red": "red", "coffee": "red", "yellow": "yellow",
+                  "mustard": "yellow", "glass": "green", "cleaner": "cyan"}
 
 PROBE = """<script>
 window.addEventListener('load', function () {
@@ -119,6 +140,53 @@ def check_page(browser, cv2, results):
                             f"under {100 * MIN_INK:.1f} %)")
         else:
             print(f"  {src}: {w}x{h} px, {100 * ink:.1f} % drawn")
+    problems += check_time_lapses(cv2, results, html)
+    return problems
+
+
+def object_colour(name):
+    for word, colour in OBJECT_COLOURS.items():
+        if word in name:
+            return colour
+    return None
+
+
+def check_time_lapses(cv2, results, html):
+    """Each pushing case's time-lapse shows its object: enough pixels of its colour class."""
+    problems = []
+    for src in re.findall(r'<img class="picture" src="([^"]+)"', html):
+        name = os.path.splitext(os.path.basename(src))[0]
+        colour = object_colour(name)
+        if colour is None:  # a strip of frames (tracking, following): no object to find
+            continue
+        image = cv2.imread(os.path.join(results, src))
+        if image is None:
+            problems.append(f"{src}: not a readable image")
+            continue
+        hsv = cv2.cvtColor(image[CAPTION:], cv2.COLOR_BGR2HSV)
+        ranges, s_min, v_min = COLOUR_CLASSES[colour]
+        h, sat, val = hsv[..., 0], hsv[..., 1], hsv[..., 2]
+        hue = sum(((h >= lo) & (h <= hi)) for lo, hi in ranges).astype(bool)
+        share = float((hue & (sat >= s_min) & (val >= v_min)).mean())
+        if share < MIN_OBJECT:
+            problems.append(f"{src}: the object is not in it ({100 * share:.2f} % {colour}, "
+                            f"under {100 * MIN_OBJECT:.1f} %)")
+        else:
+            print(f"  {src}: {100 * share:.1f} % {colour}")
+    return problems
+
+
+def check_expected_pictures(results):
+    """Every task's plot has its pictures (time-lapses or strips of frames) on the page."""
+    html = open(os.path.join(results, "index.html"), encoding="utf-8").read()
+    pictures = re.findall(r'<img class="picture" src="([^"]+)"', html)
+    folders = {p.split("/")[0] for p in pictures}
+    plots = [m for m in re.findall(r'<img src="([^"/]+)\.svg"', html)
+             if m.startswith("pushing_") and m != "pushing_dual_opposition"]
+    wanted = plots + ["tracking_errors", "following_ramp", "following_dome"]
+    problems = [f"{w}.svg: no pictures beside it on the page" for w in wanted if w not in folders]
+    if not problems:
+        print(f"  pictures beside all {len(wanted)} task plots ({len(pictures)} in all)")
     return problems
 
 
@@ -137,8 +205,15 @@ def self_test(browser, cv2, results):
                     '<rect width="100%" height="100%" fill="white"/></svg>')
         html = html.replace(f'src="{missing}"', 'src="no_such_figure.svg"')
         open(os.path.join(copy, "index.html"), "w", encoding="utf-8").write(html)
-        found = check_page(browser, cv2, copy)
         wanted = {f"{blank}: blank": False, "no_such_figure.svg: missing": False}
+        lapses = [x for x in re.findall(r'<img class="picture" src="([^"]+)"', html)
+                  if object_colour(os.path.basename(x))]
+        if lapses:  # a time-lapse without its object's colour (all grey)
+            path = os.path.join(copy, lapses[0])
+            grey = cv2.cvtColor(cv2.cvtColor(cv2.imread(path), cv2.COLOR_BGR2GRAY), cv2.COLOR_GRAY2BGR)
+            cv2.imwrite(path, grey)
+            wanted[f"{lapses[0]}: the object is not in it"] = False
+        found = check_page(browser, cv2, copy)
         for p in found:
             for w in wanted:
                 if p.startswith(w):
@@ -164,8 +239,11 @@ def main():
     if "--self-test" in sys.argv[2:]:
         problems += self_test(browser, cv2, results)
         if not problems:
-            print("self-test: a blank and a missing figure are both reported")
+            print("self-test: a blank figure, a missing one and a time-lapse without its object "
+                  "(when the page has time-lapses) are all reported")
     problems += check_page(browser, cv2, results)
+    if "--expect-pictures" in sys.argv[2:]:
+        problems += check_expected_pictures(results)
     for p in problems:
         print("demo.page FAIL:", p)
     if not problems:

@@ -55,6 +55,15 @@ const char* const kFixtureShapes[] = {"plate", "dome", "ramp"};
 constexpr double kRampFlat = 80;   // mm of flat ramp before and after the curved part
 constexpr double kRampSlab = 20;   // mm: thickness of the ramp's boxes (deeper than any contact)
 
+std::string num(double v);
+
+// RGBA for MJCF, each clamped to [0, 1].
+std::string rgbaOf(const std::array<double, 4>& c) {
+  std::string out;
+  for (double v : c) out += (out.empty() ? "" : " ") + num(std::isfinite(v) ? std::clamp(v, 0.0, 1.0) : 1.0);
+  return out;
+}
+
 std::string num(double v) {
   std::ostringstream s;
   s.precision(9);
@@ -182,7 +191,7 @@ std::string boxGeom(const std::string& name, double hx, double hy, double hz, co
 // The geoms of a fixture in its body frame. They touch nothing but the sensor tips (explicit
 // pairs), so they neither rest on the support nor collide with each other.
 std::string fixtureGeoms(const FixtureSpec& f) {
-  const std::string extra = "contype=\"0\" conaffinity=\"0\" rgba=\"0.6 0.6 0.65 1\"";
+  const std::string extra = "contype=\"0\" conaffinity=\"0\" rgba=\"0.85 0.78 0.62 1\"";  // light wood
   if (f.shape == "plate") return boxGeom(f.name, f.size / 2, f.size / 2, f.size2 / 2, Vec3(0, 0, -f.size2 / 2), 0, extra);
   if (f.shape == "dome")
     return "      <geom name=\"" + f.name + "\" type=\"sphere\" size=\"" + num(f.size * kMm) + "\" " + extra + "/>\n";
@@ -241,8 +250,11 @@ std::string sceneMjcf(const SceneSpec& spec) {
   }
   // The support touches the objects' base points only, through explicit pairs (below); no
   // geom collides by type and affinity.
+  // A light from above for rendering (render.hpp); lights and colours do not enter the dynamics.
   x << "  <worldbody>\n"
-    << "    <geom name=\"support\" type=\"plane\" size=\"2 2 0.01\" contype=\"0\" conaffinity=\"0\"/>\n";
+    << "    <light name=\"sun\" directional=\"true\" pos=\"0 0 2\" dir=\"0.3 -0.2 -1\" diffuse=\"0.7 0.7 0.7\"/>\n"
+    << "    <geom name=\"support\" type=\"plane\" size=\"2 2 0.01\" contype=\"0\" conaffinity=\"0\" rgba=\""
+    << rgbaOf(spec.support.rgba) << "\"/>\n";
   for (const ObjectSpec& o : spec.objects) {
     const double h = o.height * kMm, s = o.size * kMm;
     x << "    <body name=\"" << o.name << "\" pos=\"" << num(o.x * kMm) << " " << num(o.y * kMm)
@@ -261,7 +273,7 @@ std::string sceneMjcf(const SceneSpec& spec) {
       // The mass split by height: the same density, so the same centre of mass and inertia.
       // The body touches the sensors (pairs below), never the support.
       x << "      <geom name=\"" << segmentName(o, k) << "\" " << geom << " mass=\"" << num(o.mass * hs / h)
-        << "\" contype=\"0\" conaffinity=\"0\"/>\n";
+        << "\" contype=\"0\" conaffinity=\"0\" rgba=\"" << rgbaOf(o.rgba) << "\"/>\n";
     }
     // The base: small massless spheres whose lowest points are the base points on z_o = 0.
     const std::vector<Vec2> base = basePoints(o);
@@ -289,7 +301,12 @@ std::string sceneMjcf(const SceneSpec& spec) {
       << num(s.initial_pose.translation()[1] * kMm) << " " << num(s.initial_pose.translation()[2] * kMm)
       << "\" quat=\"" << quatOf(s.initial_pose.rotationMatrix()) << "\">\n"
       << drivenJoint(s.name) << "      <geom name=\"" << s.name << "_probe\" type=\"sphere\" size=\"" << num(s.tip_radius * kMm)
-      << "\" contype=\"0\" conaffinity=\"0\" rgba=\"0 0 0 0\"/>\n      <body name=\"" << s.name << "_tip\">\n";
+      << "\" contype=\"0\" conaffinity=\"0\" rgba=\"0 0 0 0\"/>\n"
+      // The TacTip's body behind its tip, for rendering: the explicit inertial ignores it.
+      << "      <geom name=\"" << s.name << "_body\" type=\"cylinder\" size=\"" << num(s.tip_radius * kMm) << " "
+      << num(s.tip_radius * kMm) << "\" pos=\"0 0 " << num(-s.tip_radius * kMm)
+      << "\" contype=\"0\" conaffinity=\"0\" group=\"1\" rgba=\"0.08 0.08 0.08 1\"/>\n"
+      << "      <body name=\"" << s.name << "_tip\">\n";
     const double kt = k * s.gel_tangential_ratio, bt = 2 * s.gel_damping_ratio * std::sqrt(kt * kTipMass);
     for (const char* axis : {"1 0 0", "0 1 0"})
       x << "        <joint type=\"slide\" axis=\"" << axis << "\" stiffness=\"" << num(kt) << "\" damping=\"" << num(bt)
@@ -410,7 +427,7 @@ double halfExtentX(const ObjectSpec& o) {
   return o.shape == "circle" ? o.size : o.size / 2;
 }
 
-World::World(const SceneSpec& spec) : spec_(spec) {
+mjModel_* loadScene(const SceneSpec& spec) {
   const std::string mjcf = sceneMjcf(spec);
   mjVFS vfs;
   mj_defaultVFS(&vfs);
@@ -418,13 +435,19 @@ World::World(const SceneSpec& spec) : spec_(spec) {
   if (mj_makeEmptyFileVFS(&vfs, file, int(mjcf.size())) != 0) throw SceneError("MuJoCo: cannot hold the scene");
   std::memcpy(vfs.filedata[mj_findFileVFS(&vfs, file)], mjcf.data(), mjcf.size());
   char error[1024] = "";
+  mjModel* m = nullptr;
   {
     static std::mutex parser;  // MuJoCo's XML parser is not documented as thread-safe
     const std::lock_guard<std::mutex> lock(parser);
-    m_ = mj_loadXML(file, &vfs, error, sizeof error);
+    m = mj_loadXML(file, &vfs, error, sizeof error);
   }
   mj_deleteVFS(&vfs);
-  if (!m_) throw SceneError(std::string("MuJoCo could not load the scene: ") + error);
+  if (!m) throw SceneError(std::string("MuJoCo could not load the scene: ") + error);
+  return m;
+}
+
+World::World(const SceneSpec& spec) : spec_(spec) {
+  m_ = loadScene(spec);
   d_ = mj_makeData(m_);
   if (!d_) {
     mj_deleteModel(m_);
@@ -580,6 +603,8 @@ Status World::setFixturePose(int j, const SE3d& X_wo) noexcept {
   mj_kinematics(m_, d_);
   return Status::ok;
 }
+
+std::vector<double> World::positions() const { return std::vector<double>(d_->qpos, d_->qpos + m_->nq); }
 
 SE3d World::sensorPose(int s) const noexcept { return driven_[size_t(sensor_driven_[size_t(s)])].pose; }
 

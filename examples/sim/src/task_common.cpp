@@ -1,5 +1,6 @@
 // Task options, statistics, objects, surfaces and the paper's reference values.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -49,13 +50,15 @@ void Stat::finish() {
 // Scrub") and Windex bottles as boxes of their base and height, its large coffee tin as a
 // cylinder, the glass bottle a wine bottle's (no YCB object).
 std::vector<ObjectSpec> shortObjects() {
-  auto prism = [](const char* name, const char* shape, double size, double mass) {
+  // Colours (rendering only): the paper's printed blue, red and yellow.
+  auto prism = [](const char* name, const char* shape, double size, double mass, std::array<double, 4> rgba) {
     ObjectSpec o;
-    o.name = name, o.shape = shape, o.size = size, o.height = 60, o.mass = mass;
+    o.name = name, o.shape = shape, o.size = size, o.height = 60, o.mass = mass, o.rgba = rgba;
     return o;
   };
-  return {prism("blue_square", "square", 100, 0.479), prism("blue_circle", "circle", 50, 0.363),
-          prism("red_square", "square", 75, 0.264), prism("yellow_hexagon", "hexagon", 50, 0.310)};
+  const std::array<double, 4> blue{{0.12, 0.32, 0.85, 1}}, red{{0.85, 0.15, 0.12, 1}}, yellow{{0.95, 0.8, 0.1, 1}};
+  return {prism("blue_square", "square", 100, 0.479, blue), prism("blue_circle", "circle", 50, 0.363, blue),
+          prism("red_square", "square", 75, 0.264, red), prism("yellow_hexagon", "hexagon", 50, 0.310, yellow)};
 }
 std::vector<ObjectSpec> tallObjects() {
   std::vector<ObjectSpec> v = shortObjects();
@@ -68,17 +71,20 @@ std::vector<ObjectSpec> tallObjects() {
   return v;
 }
 std::vector<ObjectSpec> everydayObjects() {
-  auto object = [](const char* name, const char* shape, double size, double size2, double height, double mass) {
+  auto object = [](const char* name, const char* shape, double size, double size2, double height, double mass,
+                   std::array<double, 4> rgba) {
     ObjectSpec o;
-    o.name = name, o.shape = shape, o.size = size, o.size2 = size2, o.height = height, o.mass = mass;
+    o.name = name, o.shape = shape, o.size = size, o.size2 = size2, o.height = height, o.mass = mass, o.rgba = rgba;
     return o;
   };
-  // Rectangles: `size` along the push, `size2` across it (the pushed face).
-  return {object("mustard_bottle", "rectangle", 58, 95, 190, 0.237),
-          object("cleaner_bottle", "rectangle", 65, 98, 250, 0.161),
-          object("windex_spray", "rectangle", 80, 105, 270, 0.339),
-          object("glass_bottle", "circle", 37, 0, 290, 0.641),
-          object("coffee_tin", "circle", 55, 0, 160, 0.214)};
+  // Rectangles: `size` along the push, `size2` across it (the pushed face). Colours (rendering
+  // only) roughly the products', each told apart from the others, the supports and the
+  // sensors by tests/sim/check_results_page.py.
+  return {object("mustard_bottle", "rectangle", 58, 95, 190, 0.237, {{0.98, 0.8, 0.1, 1}}),
+          object("cleaner_bottle", "rectangle", 65, 98, 250, 0.161, {{0.6, 0.85, 0.9, 1}}),
+          object("windex_spray", "rectangle", 80, 105, 270, 0.339, {{0.2, 0.55, 0.9, 1}}),
+          object("glass_bottle", "circle", 37, 0, 290, 0.641, {{0.3, 0.6, 0.35, 0.8}}),
+          object("coffee_tin", "circle", 55, 0, 160, 0.214, {{0.55, 0.1, 0.1, 1}})};
 }
 std::string displayName(const ObjectSpec& o) {
   std::string n = o.name;

@@ -41,6 +41,9 @@ void followPath(mujoco::World& world, detail::EngineArm& sa, lieservo::TactileSe
   const Vec3 p_start = sa.state.point_w;
   double t = 0;
   long k = 0;
+  const long state_every = std::max(1L, std::lround(kStatePeriod / dt));
+  out.states.scene = world.spec();
+  out.states.add(0, world.positions());
   Vec3 p_prev = p_start;
   while (t < timeout) {
     SE3d X_sf;
@@ -62,6 +65,7 @@ void followPath(mujoco::World& world, detail::EngineArm& sa, lieservo::TactileSe
     }
     t += dt;
     ++k;
+    if (k % state_every == 0) out.states.add(t, world.positions());
     const ContactState& c = sa.state;
     out.depth_error.add(c.depth - ref_depth);
     out.tilt.add(toDeg(c.tilt));
@@ -84,6 +88,7 @@ void followPath(mujoco::World& world, detail::EngineArm& sa, lieservo::TactileSe
     }
     if (!c.in_contact && c.depth < -5) break;  // hopelessly off the surface
   }
+  if (out.states.times.back() < t) out.states.add(t, world.positions());
   t_global += t;
   out.depth_error.finish();
   out.tilt.finish();

@@ -136,6 +136,9 @@ PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& options, st
 
   leader.touch(world);
   if (follower) follower->touch(world);
+  const long state_every = std::max(1L, std::lround(kStatePeriod / dt));
+  tr.states.scene = scene;
+  tr.states.add(0, world.positions());
 
   double t = 0;
   bool terminated = false;
@@ -174,6 +177,7 @@ PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& options, st
     }
     t += dt;
     ++steps;
+    if (steps % state_every == 0) tr.states.add(t, world.positions());
     const ContactState& cL = leader.state;
     if (!cL.in_contact) tr.contact_kept = false;
     lost_for = cL.in_contact ? 0.0 : lost_for + dt;
@@ -212,6 +216,7 @@ PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& options, st
       break;
     }
   }
+  if (tr.states.times.back() < t) tr.states.add(t, world.positions());
   tr.terminated = terminated;
   tr.duration = t;
   tr.follower_contact_fraction = steps ? double(follower_steps_in_contact) / double(steps) : 1.0;
@@ -416,8 +421,10 @@ PushingResult runGroups(const std::vector<Group>& groups, bool dual, bool centra
     runs[c][i] = runPushTrial(setups[c], opt, trialSeed(opt, int(i)));
   });
   PushingResult res;
-  for (std::size_t c = 0; c < setups.size(); ++c)
+  for (std::size_t c = 0; c < setups.size(); ++c) {
     res.cases.push_back(judgeCase(setups[c], std::move(runs[c]), judged(setups[c].object), opt));
+    if (!opt.out_dir.empty()) res.cases.back().figure_stem = groups[group_of[c]].stem;
+  }
   if (!opt.out_dir.empty()) {
     makeDirectories(opt.out_dir);
     for (std::size_t g = 0; g < groups.size(); ++g) {

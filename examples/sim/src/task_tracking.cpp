@@ -130,6 +130,9 @@ TrackingResult runObjectTracking(const TaskOptions& opt) {
   double t = 0;
   const double Ttot = T1 + T2;
   long k = 0;
+  const long state_every = std::max(1L, std::lround(kStatePeriod / dt));
+  res.states.scene = scene;
+  res.states.add(0, world.positions());
   while (t < Ttot - 1e-9) {
     const bool part2 = t >= T1;
     std::size_t leg = legs.size();
@@ -159,6 +162,7 @@ TrackingResult runObjectTracking(const TaskOptions& opt) {
     }
     t += dt;
     ++k;
+    if (k % state_every == 0) res.states.add(t, world.positions());
     if (!part2) legPose(legs, leg_time, hold, t - 0.5 * dt, X_wl0, leg);
     TrackingSegment& seg = part2 ? res.segments.back() : res.segments[leg];
     const ContactState& c = follower.state;
@@ -184,6 +188,7 @@ TrackingResult runObjectTracking(const TaskOptions& opt) {
     depth_series.emplace_back(t, depth_err);
     tilt_series.emplace_back(t, toDeg(c.tilt));
   }
+  if (res.states.times.back() < t) res.states.add(t, world.positions());
   res.sim_time = t;
   for (auto& s : res.segments) {
     s.depth_error.finish();

@@ -27,6 +27,7 @@
 // foundation (SupportSpec::foundation_modulus) with sliding friction μ_s.
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -52,10 +53,12 @@ struct SupportSpec {
   /// N/mm³: the objects bed in by 0.02–0.15 mm) and a hard MDF board (μ_s 0.35; k_w = 0.05
   /// N/mm³: 2–30 µm, the compliance of the objects' printed bases on it). All are assumed
   /// plausible values (docs/simulation.md, "What is assumed").
-  static SupportSpec foam() { return {"foam", 0.6, 0.01}; }
-  static SupportSpec mdf() { return {"MDF", 0.35, 0.05}; }
+  /// Colour (RGBA, 0–1) for rendering only.
+  std::array<double, 4> rgba{{0.6, 0.6, 0.6, 1}};
+  static SupportSpec foam() { return {"foam", 0.6, 0.01, {{0.16, 0.16, 0.17, 1}}}; }
+  static SupportSpec mdf() { return {"MDF", 0.35, 0.05, {{0.72, 0.58, 0.42, 1}}}; }
   /// The rigid support of the statics checks (toppleAnalysis): k_w = 1 N/mm³ (sinks < 2 µm).
-  static SupportSpec rigid(double friction) { return {"rigid", friction, 1.0}; }
+  static SupportSpec rigid(double friction) { return {"rigid", friction, 1.0, {{0.6, 0.6, 0.6, 1}}}; }
 };
 
 /// A rigid object standing on the support: a vertical prism.
@@ -76,6 +79,8 @@ struct ObjectSpec {
   /// MuJoCo's convex collider misjudges a sphere low on a tall cylinder (docs/simulation.md,
   /// "Tall cylinders and hexagons").
   double contact_height = 0;
+  /// Colour (RGBA, 0–1) for rendering only.
+  std::array<double, 4> rgba{{0.55, 0.55, 0.6, 1}};
 };
 
 /// A surface that is not pushed: fixed in the work frame (the following tasks' dome and ramp)
@@ -201,6 +206,9 @@ class World {
   /// arm's nominal tip (the three slide joints).
   Vec3 gelDeflection(int s) const noexcept;
 
+  /// MuJoCo's generalised positions now (qpos: metres, unit quaternions), for a StateLog.
+  std::vector<double> positions() const;
+
   int objectCount() const noexcept { return int(spec_.objects.size()); }
   int fixtureCount() const noexcept { return int(spec_.fixtures.size()); }
   int sensorCount() const noexcept { return int(spec_.sensors.size()); }
@@ -228,8 +236,27 @@ class World {
   std::vector<Driven> driven_;
 };
 
-/// The MJCF text of a scene (metres inside). Validates first.
+/// The MJCF text of a scene (metres inside). Validates first. Colours, a light and each
+/// sensor's body (a black cylinder behind the tip, touching nothing, massless) are for
+/// rendering only: they do not change the dynamics.
 std::string sceneMjcf(const SceneSpec& spec);
+/// The scene compiled by MuJoCo (validates first; throws SceneError). The caller owns it
+/// (mj_deleteModel).
+mjModel_* loadScene(const SceneSpec& spec);
+
+/// A run's world states, kept so that it can be shown afterwards (render.hpp) without
+/// touching the run: the scene as built and MuJoCo's generalised positions (qpos: metres,
+/// unit quaternions) at the logged times.
+struct StateLog {
+  SceneSpec scene;
+  std::vector<double> times;              ///< s from the start of the run
+  std::vector<std::vector<double>> qpos;  ///< one per time
+  void add(double t, std::vector<double> q) {
+    times.push_back(t);
+    qpos.push_back(std::move(q));
+  }
+  bool empty() const { return qpos.empty(); }
+};
 
 /// The ramp fixture's height h(y) (mm) at y (mm, along y_o): the profile of FixtureSpec.
 double rampHeight(const FixtureSpec& ramp, double y);

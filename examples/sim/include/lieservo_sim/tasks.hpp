@@ -36,6 +36,10 @@ namespace lieservo::sim {
 /// at 20 Hz. The engine's gel tests (tests/sim) run at that step.
 inline constexpr double kTimestep = 0.0025;
 
+/// The tasks keep their world's state (StateLog) every kStatePeriod s of simulated time and at
+/// the end, for the time-lapses and videos (render.hpp): 0.25 s, 5 control periods at 20 Hz.
+inline constexpr double kStatePeriod = 0.25;
+
 /// MuJoCo steps per control period dt: the whole number nearest dt / kTimestep (at least 1).
 inline int stepsPerPeriod(double dt) { return std::max(1, int(std::lround(dt / kTimestep))); }
 
@@ -92,6 +96,7 @@ struct TrackingSegment {
 struct TrackingResult {
   std::vector<TrackingSegment> segments;  ///< 12 single-axis legs (out/back) + "periodic"
   TrackingSegment single_axis, periodic;  ///< pooled
+  mujoco::StateLog states;  ///< the world every kStatePeriod s (for render.hpp)
   bool success = false;
   std::vector<std::string> failures;
   double sim_time = 0;
@@ -106,6 +111,7 @@ struct FollowingPath {
   double distance = 0;  ///< distance travelled along the surface (mm)
   bool reached_end = false;
   bool contact_kept = true;
+  mujoco::StateLog states;  ///< the world every kStatePeriod s (for render.hpp)
 };
 struct FollowingResult {
   FollowingPath ramp;
@@ -173,6 +179,7 @@ struct PushTrial {
   std::vector<double> bearing, alignment_velocity;  ///< θ_s' (deg), alignment u_y (mm/s) per step
   std::vector<double> leader_depth, leader_tilt, follower_depth;  ///< true depth (mm), α (deg)
   std::vector<double> object_tilt;                  ///< the object's tilt from vertical (deg) per step
+  mujoco::StateLog states;  ///< the world every kStatePeriod s (for render.hpp)
 };
 struct PushingCase {
   PushingSetup setup;
@@ -187,6 +194,9 @@ struct PushingCase {
   bool judged = true;
   bool success = false;
   std::vector<std::string> failures;
+  /// The case's figures: the group's plot is `<figure_stem>.svg`, its time-lapse
+  /// `<figure_stem>/<object name>.png` (render.hpp); empty when the runner wrote no files.
+  std::string figure_stem;
 };
 /// One trial (seeded: object placement jitter with sd 2 mm / 2° clipped at 2 sd, support friction ±10 %, GDN noise).
 PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& opt, std::uint64_t trial_seed);
