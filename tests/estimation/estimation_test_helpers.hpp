@@ -36,12 +36,28 @@ inline double uniform(lieservo::sampling::Rng& rng, double lo, double hi) {
   return lieservo::sampling::uniform(rng, lo, hi);
 }
 
-/// A random orthogonal matrix (QR of a Gaussian matrix).
+/// A random orthogonal n×n matrix (QR of a Gaussian matrix). The helpers below compute with
+/// dynamic sizes: one instantiation of Eigen's decompositions serves every group, which keeps
+/// these test files quick to compile (fixed sizes buy nothing in a test's set-up).
+inline Eigen::MatrixXd randomOrthogonal(lieservo::sampling::Rng& rng, int n) {
+  Eigen::MatrixXd A(n, n);
+  for (Eigen::Index i = 0; i < A.size(); ++i) A.data()[i] = lieservo::sampling::standardNormal(rng);
+  return Eigen::HouseholderQR<Eigen::MatrixXd>(A).householderQ();
+}
+
 template <int N>
 Eigen::Matrix<double, N, N> randomOrthogonal(lieservo::sampling::Rng& rng) {
-  const Eigen::Matrix<double, N, N> A = randn<Eigen::Matrix<double, N, N>>(rng);
-  Eigen::HouseholderQR<Eigen::Matrix<double, N, N>> qr(A);
-  return qr.householderQ();
+  return randomOrthogonal(rng, N);
+}
+
+/// The correlated covariance diag(s)·C·diag(s), C the correlation matrix of Q·diag(ev)·Qᵀ.
+inline Eigen::MatrixXd correlatedCovariance(const Eigen::MatrixXd& Q, const Eigen::VectorXd& ev,
+                                            const Eigen::VectorXd& s) {
+  Eigen::MatrixXd C = Q * ev.asDiagonal() * Q.transpose();
+  const Eigen::VectorXd d = C.diagonal().cwiseSqrt().cwiseInverse();
+  C = d.asDiagonal() * C * d.asDiagonal();  // correlation matrix
+  Eigen::MatrixXd S = s.asDiagonal() * C * s.asDiagonal();
+  return 0.5 * (S + S.transpose());
 }
 
 /// Realistic per-component standard deviations for group G: translations σ ∈ [t_lo, t_hi]
@@ -63,15 +79,11 @@ typename G::Tangent realisticSigma(lieservo::sampling::Rng& rng, double t_lo = 0
 template <class G>
 typename G::Jacobian correlatedCovariance(lieservo::sampling::Rng& rng, const typename G::Tangent& sigma) {
   constexpr int D = G::DoF;
-  const Eigen::Matrix<double, D, D> Q = randomOrthogonal<D>(rng);
-  Eigen::Matrix<double, D, 1> ev;
+  const Eigen::MatrixXd Q = randomOrthogonal(rng, D);
+  Eigen::VectorXd ev(D);
   for (int i = 0; i < D; ++i) ev[i] = uniform(rng, 0.2, 1.8);
-  Eigen::Matrix<double, D, D> C = Q * ev.asDiagonal() * Q.transpose();
-  const Eigen::Matrix<double, D, 1> d = C.diagonal().cwiseSqrt().cwiseInverse();
-  C = d.asDiagonal() * C * d.asDiagonal();  // correlation matrix
-  const Eigen::Matrix<double, D, 1> s = sigma.template cast<double>();
-  Eigen::Matrix<double, D, D> S = s.asDiagonal() * C * s.asDiagonal();
-  S = 0.5 * (S + S.transpose()).eval();
+  const Eigen::VectorXd s = sigma.template cast<double>();
+  const Eigen::Matrix<double, D, D> S = correlatedCovariance(Q, ev, s);
   return S.template cast<typename G::Scalar>();
 }
 
@@ -88,13 +100,14 @@ ConcentratedGaussian<G> randomFactor(lieservo::sampling::Rng& rng, const G& cent
   return f;
 }
 
-/// Mahalanobis length of a tangent vector under covariance S.
+/// Mahalanobis length of a tangent vector v under covariance S (in double).
+inline double mahalanobis(const Eigen::VectorXd& v, const Eigen::MatrixXd& S) {
+  return std::sqrt(v.dot(S.ldlt().solve(v)));
+}
+
 template <class Vec, class Mat>
 double mahalanobis(const Vec& v, const Mat& S) {
-  const Eigen::Matrix<double, Vec::RowsAtCompileTime, 1> vd = v.template cast<double>();
-  const Eigen::Matrix<double, Mat::RowsAtCompileTime, Mat::ColsAtCompileTime> Sd =
-      S.template cast<double>();
-  return std::sqrt(vd.dot(Sd.ldlt().solve(vd)));
+  return mahalanobis(Eigen::VectorXd(v.template cast<double>()), Eigen::MatrixXd(S.template cast<double>()));
 }
 
 /// Relative Frobenius difference ‖A − B‖/‖B‖.

@@ -999,7 +999,7 @@ TEST_CASE("fusion: the information form agrees with the square-root form on real
 template <int N>
 void checkSpdInverse(lieservo::sampling::Rng& rng, long samples, double& worst, long& refused) {
   using M = Eigen::Matrix<double, N, N>;
-  using ML = Eigen::Matrix<long double, N, N>;
+  using ML = Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>;  // one instantiation for every N
   for (long t = 0; t < samples; ++t) {
     // Eigenvalues over 0.1..10 in a random basis, then a random diagonal scaling over
     // 1e-6..1e6 (mm against rad, σ from 1e-3 to 1e3): equilibration must undo the scaling.
@@ -1017,7 +1017,7 @@ void checkSpdInverse(lieservo::sampling::Rng& rng, long samples, double& worst, 
       CHECK(Hinv == M::Constant(-1.0));  // untouched
       continue;
     }
-    const ML ref = H.template cast<long double>().llt().solve(ML::Identity());
+    const ML ref = ML(H.template cast<long double>()).llt().solve(ML::Identity(N, N));
     // Elementwise error relative to the diagonal scale √(H⁻¹_ii H⁻¹_jj), which equilibration
     // makes the natural unit of each entry.
     for (int i = 0; i < N; ++i)
@@ -1124,7 +1124,7 @@ TEST_CASE("fusion: an explicit inverse certified SPD by its trace is SPD", "[est
   CHECK_FALSE(detail::spdInverseCertified<3>(3.0f));
 
   using M6 = Eigen::Matrix<double, 6, 6>;
-  using ML = Eigen::Matrix<long double, 6, 6>;
+  using ML = Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>;
   lieservo::sampling::Rng rng(20261125);
   const long n = test::scaledCount(100000, 10000);
   long accepted = 0, near_limit = 0, not_certified = 0, cholesky_failed = 0;
@@ -1154,7 +1154,7 @@ TEST_CASE("fusion: an explicit inverse certified SPD by its trace is SPD", "[est
       continue;
     }
     detail::symmetrize(E);
-    const ML El = E.cast<long double>();
+    const ML El = E.cast<long double>();  // dynamic: the eigensolver compiles once
     worst_min_eig = std::min(worst_min_eig, Eigen::SelfAdjointEigenSolver<ML>(El).eigenvalues().minCoeff());
     M6 H = sc.asDiagonal() * He * sc.asDiagonal();
     M6 Hinv, L;

@@ -35,6 +35,7 @@
 // double), which makes the check redundant.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -142,41 +143,48 @@ Scalar cutLocusMargin() noexcept {
 
 namespace detail {
 
-/// Householder triangularisation, in place, of a fixed-size M from column K on (columns
-/// K..TriCols−1 are reduced; later columns are transformed along, i.e. they become Qᵀ·column).
-/// Column-scaled reflectors avoid overflow/underflow in the norms. Every block size is known at
-/// compile time, so Eigen unrolls and vectorises it (the filter's hot path).
+/// Householder triangularisation, in place, of a fixed-size column-major M from column K on
+/// (columns K..TriCols−1 are reduced; later columns are transformed along, i.e. they become
+/// Qᵀ·column). Column-scaled reflectors avoid overflow/underflow in the norms. The columns are
+/// walked as plain arrays with compile-time bounds: as fast as Eigen's fixed-size block products
+/// here (the filter's hot path), and an order of magnitude cheaper to compile.
 template <int K, int TriCols, class Mat>
 void householderTriangularize(Mat& M) noexcept {
   using Scalar = typename Mat::Scalar;
   constexpr int R = Mat::RowsAtCompileTime;
   constexpr int C = Mat::ColsAtCompileTime;
+  static_assert(!(Mat::Flags & Eigen::RowMajorBit), "householderTriangularize: column-major M");
   if constexpr (K < TriCols && K < R - 1) {
-    constexpr int below = R - K - 1;  // rows under the diagonal
-    constexpr int right = C - K - 1;  // columns right of the diagonal
-    const Scalar scale = M.col(K).template segment<R - K>(K).cwiseAbs().maxCoeff();
+    Scalar* const m = M.data();
+    Scalar* const colK = m + K * R;
+    Scalar scale(0);
+    for (int i = K; i < R; ++i) scale = std::max(scale, std::abs(colK[i]));
     // One reciprocal instead of a division per entry; a subnormal scale (whose reciprocal
     // overflows) is treated as zero: its column is negligible against any pivot.
     if (scale >= std::numeric_limits<Scalar>::min() && std::isfinite(scale)) {
       const Scalar inv_scale = Scalar(1) / scale;
-      const Eigen::Matrix<Scalar, below, 1> v = M.col(K).template segment<below>(K + 1) * inv_scale;
-      const Scalar sigma2 = v.squaredNorm();
+      Scalar v[R];  // the reflector below the diagonal, v[K+1 .. R-1]
+      Scalar sigma2(0);
+      for (int i = K + 1; i < R; ++i) {
+        v[i] = colK[i] * inv_scale;
+        sigma2 += v[i] * v[i];
+      }
       if (sigma2 != Scalar(0)) {
-        const Scalar x0 = M(K, K) * inv_scale;
+        const Scalar x0 = colK[K] * inv_scale;
         Scalar alpha = std::sqrt(x0 * x0 + sigma2);
         if (x0 > Scalar(0)) alpha = -alpha;  // v0 = x0 − alpha never cancels
         const Scalar v0 = x0 - alpha;
         const Scalar two_over_vtv = Scalar(2) / (v0 * v0 + sigma2);
-        if constexpr (right > 0) {
-          auto top = M.template block<1, right>(K, K + 1);
-          auto rest = M.template block<below, right>(K + 1, K + 1);
-          const Eigen::Matrix<Scalar, 1, right> f =
-              (v0 * top + v.transpose() * rest) * two_over_vtv;
-          top -= v0 * f;
-          rest.noalias() -= v * f;
+        for (int j = K + 1; j < C; ++j) {  // column j −= v · (2 vᵀcolumn / vᵀv)
+          Scalar* const col = m + j * R;
+          Scalar f = v0 * col[K];
+          for (int i = K + 1; i < R; ++i) f += v[i] * col[i];
+          f *= two_over_vtv;
+          col[K] -= v0 * f;
+          for (int i = K + 1; i < R; ++i) col[i] -= v[i] * f;
         }
-        M(K, K) = alpha * scale;
-        M.col(K).template segment<below>(K + 1).setZero();
+        colK[K] = alpha * scale;
+        for (int i = K + 1; i < R; ++i) colK[i] = Scalar(0);
       }
     }
     householderTriangularize<K + 1, TriCols>(M);
