@@ -1,8 +1,9 @@
 // examples/franka/franka_adapter.cpp — see franka_adapter.hpp and docs/hardware.md.
 //
-// NOT compiled in CI (no libfranka there): only built where find_package(Franka) succeeds.
-// Everything the 1 kHz callback computes is lieservo::realtime::CartesianVelocityPipeline,
-// which is tested in CI against a fake robot (tests/realtime).
+// Built against libfranka where find_package(Franka) succeeds, and everywhere against the
+// libfranka test double (examples/franka/sim_double), which is how CI runs it
+// (tests/franka/test_franka_adapter_sim). Everything the 1 kHz callback computes is
+// lieservo::realtime::CartesianVelocityPipeline (tested on its own in tests/realtime).
 #include "franka_adapter.hpp"
 #include "franka_frames.hpp"
 

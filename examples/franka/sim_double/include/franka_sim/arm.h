@@ -1,0 +1,83 @@
+// franka_sim/arm.h — the simulated Panda behind lieservo's libfranka test double.
+//
+// A franka::Robot constructed with an address finds the Arm registered under it here. The
+// arm follows each 1 kHz Cartesian velocity command by resolved rate (panda_kinematics.hpp:
+// damped least squares, joint velocity limits) and stops with the error libfranka's robot
+// would raise: a command over the documented Cartesian limits, a joint over its position
+// limits or a joint velocity the command needs beyond its limit (after the inverse kinematics,
+// as libfranka names them), an injected reflex. After
+// an error the arm is at rest (dq = 0) until automaticErrorRecovery().
+//
+// Kinematic: joint velocity control without dynamics or contact (the arm tracks its joint
+// velocity command exactly), paced at 1 kHz of wall-clock time by default, since the
+// adapter's watchdog measures the age of commands on the steady clock.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include <franka/control_types.h>
+#include <franka/duration.h>
+#include <franka/robot_state.h>
+#include <lieservo_sim/panda_kinematics.hpp>
+
+namespace franka_sim {
+
+namespace panda = lieservo::sim::panda;
+
+/// What the double saw over its motions (since construction or resetReport()).
+struct ArmReport {
+  std::uint64_t cycles = 0;             ///< 1 kHz callbacks run
+  std::uint64_t motions = 0;            ///< control() calls that ended normally
+  std::uint64_t errors = 0;             ///< control() calls that ended in an error
+  std::string last_error;               ///< the last error's text ("" if none)
+  double max_twist_error = 0;           ///< max ‖J dq − commanded twist‖ (m/s and rad/s mixed)
+  std::uint64_t damped_cycles = 0;      ///< cycles where damping (a near singularity) changed the twist
+  double min_manipulability = 1e9;      ///< over the cycles
+  double min_joint_margin = 1e9;        ///< rad, over the cycles
+  double max_speed = 0, max_angular_speed = 0;   ///< m/s, rad/s commanded
+  double max_accel = 0, max_angular_accel = 0;   ///< m/s², rad/s² (differences over 1 ms)
+  double max_jerk = 0, max_angular_jerk = 0;     ///< m/s³, rad/s³
+};
+
+class Arm {
+ public:
+  /// Registers an arm at q0 under `address` (replacing any other); remove() it after use.
+  static std::shared_ptr<Arm> create(const std::string& address, const panda::Joints& q0 = panda::readyPose());
+  static void remove(const std::string& address);
+  /// The arm registered under `address`, or null.
+  static std::shared_ptr<Arm> find(const std::string& address);
+
+  explicit Arm(const panda::Joints& q0);
+
+  /// The next 1 kHz cycle raises a ControlException with this text (a reflex).
+  void injectReflex(const std::string& what);
+  /// Whether control() paces its callbacks at 1 kHz of wall-clock time (default true).
+  void setPaced(bool paced);
+
+  panda::Joints joints() const;
+  panda::Joints jointVelocities() const;
+  bool faulted() const;
+  ArmReport report() const;
+
+  // franka::Robot's side.
+  franka::RobotState readOnce() const;
+  void control(const std::function<franka::CartesianVelocities(const franka::RobotState&, franka::Duration)>& cb);
+  void recover();
+
+ private:
+  franka::RobotState stateLocked() const;
+  [[noreturn]] void fail(const std::string& what);  // mutex_ held
+
+  mutable std::mutex mutex_;
+  panda::Joints q_, dq_ = panda::Joints::Zero();
+  std::uint64_t time_ms_ = 0;
+  bool faulted_ = false, paced_ = true;
+  std::string reflex_;
+  ArmReport report_;
+};
+
+}  // namespace franka_sim

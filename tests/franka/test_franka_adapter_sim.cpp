@@ -1,0 +1,193 @@
+// examples/franka/franka_adapter.cpp, unchanged, against the libfranka test double
+// (examples/franka/sim_double): the tactile thread's commands cross the lock-free channel to the
+// 1 kHz callback on the adapter's own thread, through the watchdog and the smoother, and drive
+// the simulated Panda. Faults a hardware user meets, each with its safe outcome. Bounds written
+// before the first run; time bounds leave room for a loaded test machine.
+#include <catch2/catch.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <thread>
+
+#include <franka_adapter.hpp>
+#include <franka_sim/arm.h>
+
+using lieservo::Status;
+using lieservo::franka_adapter::FrankaAdapter;
+using lieservo::franka_adapter::FrankaAdapterOptions;
+using lieservo::realtime::WatchdogState;
+using SE3d = lieservo::SE3<double>;
+using Twist = SE3d::Tangent;
+using Clock = std::chrono::steady_clock;
+namespace panda = lieservo::sim::panda;
+
+namespace {
+
+/// A simulated arm registered under its own address for one test.
+struct SimArm {
+  std::string address;
+  std::shared_ptr<franka_sim::Arm> arm;
+  explicit SimArm(std::string a, const panda::Joints& q0 = panda::readyPose())
+      : address(std::move(a)), arm(franka_sim::Arm::create(address, q0)) {}
+  ~SimArm() { franka_sim::Arm::remove(address); }
+  FrankaAdapterOptions options() const {
+    FrankaAdapterOptions o;
+    o.robot_ip = address;
+    o.enforce_realtime = false;
+    return o;
+  }
+};
+
+/// Sends `twist` at 20 Hz for n periods (the tactile thread); when the last command was sent.
+Clock::time_point commandFor(FrankaAdapter& adapter, const Twist& twist, int n) {
+  auto next = Clock::now(), last = next;
+  for (int i = 0; i < n; ++i) {
+    last = Clock::now();
+    REQUIRE(adapter.commandVelocity(twist, 0.05) == Status::ok);
+    next += std::chrono::milliseconds(50);
+    std::this_thread::sleep_until(next);
+  }
+  return last;
+}
+
+/// Waits (≤ limit_s) until pred() holds; the seconds it took, or a negative number.
+template <class Pred>
+double waitFor(Pred pred, double limit_s) {
+  const auto t0 = Clock::now();
+  while (std::chrono::duration<double>(Clock::now() - t0).count() < limit_s) {
+    if (pred()) return std::chrono::duration<double>(Clock::now() - t0).count();
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return -1.0;
+}
+
+bool atRest(const franka_sim::Arm& arm) { return arm.jointVelocities().norm() == 0.0; }
+
+}  // namespace
+
+TEST_CASE("franka adapter on the double: the pose read back and a move to a goal", "[robot][franka]") {
+  SimArm sim("sim-panda-move");
+  FrankaAdapter adapter(sim.options());
+  SE3d X;
+  REQUIRE(adapter.readPose(X) == Status::ok);
+  const Eigen::Matrix4d T = panda::flange(panda::readyPose());
+  CHECK((X.translation() - 1e3 * T.block<3, 1>(0, 3)).norm() <= 1e-9);  // mm
+  CHECK((X.rotationMatrix() - T.topLeftCorner<3, 3>()).norm() <= 1e-12);
+
+  // 20 mm down the sensor's z (the flange points down) and 5° about it.
+  Twist step;
+  step << 0, 0, 20, 0, 0, 5 * lieservo::pi<double>() / 180;
+  const SE3d goal = X * SE3d::exp(step);
+  REQUIRE(adapter.moveTo(goal) == Status::ok);
+  SE3d Y;
+  REQUIRE(adapter.readPose(Y) == Status::ok);
+  const Twist e = (Y.inverse() * goal).log();
+  CHECK(e.head<3>().norm() <= 0.2);   // mm; moveTo stops at 0.1
+  CHECK(e.tail<3>().norm() <= 0.004);  // rad; moveTo stops at 0.002
+
+  // What the arm was commanded stayed inside the adapter's smoother limits (SI).
+  const franka_sim::ArmReport r = sim.arm->report();
+  const auto lim = sim.options().limits;
+  INFO("speed " << r.max_speed << " m/s, accel " << r.max_accel << ", jerk " << r.max_jerk << "; twist error "
+                << r.max_twist_error << ", manipulability >= " << r.min_manipulability);
+  CHECK(r.errors == 0);
+  CHECK(r.motions == 1);
+  CHECK(r.max_speed <= lim.translation.velocity * (1 + 1e-9));
+  CHECK(r.max_accel <= lim.translation.acceleration * (1 + 1e-6));
+  CHECK(r.max_jerk <= lim.translation.jerk * (1 + 1e-6));
+  CHECK(r.max_angular_speed <= lim.rotation.velocity * (1 + 1e-9));
+  CHECK(r.max_twist_error <= 1e-9);  // achieved twist = commanded (no damping needed here)
+  CHECK(r.damped_cycles == 0);
+}
+
+TEST_CASE("franka adapter on the double: 20 Hz commands move the arm, a stalled tactile thread stops it",
+          "[robot][franka]") {
+  SimArm sim("sim-panda-stall");
+  FrankaAdapter adapter(sim.options());
+  SE3d X0;
+  REQUIRE(adapter.readPose(X0) == Status::ok);
+  Twist v = Twist::Zero();
+  v[0] = 10.0;  // mm/s along the sensor's x
+  const auto t_last = commandFor(adapter, v, 24);  // 1.2 s; the watchdog arms after 3 fresh commands
+  // The tactile thread stalls: the watchdog (0.2 s) must bring the arm to rest.
+  const double t_rest = waitFor([&] { return atRest(*sim.arm); }, 2.0);
+  const double since_last = std::chrono::duration<double>(Clock::now() - t_last).count();
+  INFO("at rest " << since_last << " s after the last command");
+  REQUIRE(t_rest >= 0);
+  CHECK(since_last <= 0.2 + 0.3);  // timeout, ramp-down and scheduling
+  const auto st = adapter.stats();
+  CHECK(st.running);
+  CHECK_FALSE(st.faulted);
+  CHECK(st.watchdog == WatchdogState::tripped_timeout);
+
+  SE3d X1;
+  REQUIRE(adapter.readPose(X1) == Status::ok);
+  const Twist d = (X0.inverse() * X1).log();
+  INFO("moved " << d.transpose());
+  CHECK(d[0] >= 5.0);
+  CHECK(d[0] <= 15.0);
+  CHECK(std::abs(d[1]) <= 0.5);
+  CHECK(std::abs(d[2]) <= 0.5);
+  CHECK(d.tail<3>().norm() <= 1e-3);
+  adapter.stop();
+  CHECK_FALSE(adapter.stats().running);
+  CHECK(sim.arm->report().errors == 0);
+}
+
+TEST_CASE("franka adapter on the double: bad commands are refused and start nothing", "[robot][franka]") {
+  SimArm sim("sim-panda-bad");
+  FrankaAdapter adapter(sim.options());
+  const panda::Joints q0 = sim.arm->joints();
+  Twist nan_twist = Twist::Zero();
+  nan_twist[2] = std::nan("");
+  CHECK(adapter.commandVelocity(nan_twist, 0.05) == Status::non_finite_input);
+  CHECK(adapter.commandVelocity(Twist::Zero(), 0.0) == Status::invalid_time_step);
+  CHECK(adapter.commandVelocity(Twist::Zero(), -0.05) == Status::invalid_time_step);
+  CHECK(adapter.moveTo(SE3d::fromMatrixUnchecked(Eigen::Matrix4d::Constant(std::nan("")))) ==
+        Status::non_finite_input);
+  CHECK_FALSE(adapter.stats().running);
+  CHECK(sim.arm->report().cycles == 0);
+  CHECK(sim.arm->joints() == q0);
+}
+
+TEST_CASE("franka adapter on the double: a reflex faults the adapter, the arm rests, recover() clears it",
+          "[robot][franka]") {
+  SimArm sim("sim-panda-reflex");
+  FrankaAdapter adapter(sim.options());
+  Twist v = Twist::Zero();
+  v[1] = 5.0;
+  commandFor(adapter, v, 6);
+  sim.arm->injectReflex("cartesian_reflex");
+  REQUIRE(waitFor([&] { return adapter.stats().faulted; }, 2.0) >= 0);
+  CHECK(atRest(*sim.arm));
+  CHECK(adapter.lastError().find("cartesian_reflex") != std::string::npos);
+  CHECK(adapter.commandVelocity(v, 0.05) == Status::not_initialised);
+  REQUIRE(adapter.recover() == Status::ok);
+  CHECK_FALSE(adapter.stats().faulted);
+  commandFor(adapter, v, 6);
+  adapter.stop();
+  CHECK(sim.arm->report().errors == 1);
+  CHECK(sim.arm->report().motions == 1);  // the second motion ended normally
+}
+
+TEST_CASE("franka adapter on the double: a twist that drives a joint into its limit stops at rest", "[robot][franka]") {
+  panda::Joints q0 = panda::readyPose();
+  q0[6] = panda::upperLimits()[6] - 0.03;  // joint 7 (the flange's own axis) near its limit
+  SimArm sim("sim-panda-limit", q0);
+  FrankaAdapter adapter(sim.options());
+  Twist w = Twist::Zero();
+  w[5] = 0.3;  // rad/s about the sensor's z: turns joint 7 towards its limit
+  auto next = Clock::now();
+  for (int i = 0; i < 40 && !adapter.stats().faulted; ++i) {
+    (void)adapter.commandVelocity(w, 0.05);
+    next += std::chrono::milliseconds(50);
+    std::this_thread::sleep_until(next);
+  }
+  REQUIRE(waitFor([&] { return adapter.stats().faulted; }, 1.0) >= 0);
+  INFO(adapter.lastError());
+  CHECK(adapter.lastError().find("joint_position_limits_violation") != std::string::npos);
+  CHECK(atRest(*sim.arm));
+  CHECK(panda::jointLimitMargin(sim.arm->joints()) >= 0);
+  CHECK(sim.arm->report().errors == 1);
+}
