@@ -24,7 +24,9 @@ std::map<std::string, std::shared_ptr<Arm>>& registry() {
   return r;
 }
 
-// libfranka's documented Cartesian limits of the end effector (translation, rotation).
+// libfranka's documented Cartesian limits of the end effector (translation, rotation), written
+// out here rather than taken from the adapter's franka_frames.hpp: the double checks the
+// adapter, so it must not share the adapter's constants.
 constexpr double kMaxSpeed = 1.7, kMaxAccel = 13.0, kMaxJerk = 6500.0;
 constexpr double kMaxAngularSpeed = 2.5, kMaxAngularAccel = 25.0, kMaxAngularJerk = 12500.0;
 constexpr double kDt = 1e-3;
@@ -57,11 +59,6 @@ Arm::Arm(const panda::Joints& q0) : q_(q0) {
 void Arm::injectReflex(const std::string& what) {
   std::lock_guard<std::mutex> g(mutex_);
   reflex_ = what.empty() ? "injected reflex" : what;
-}
-
-void Arm::setPaced(bool paced) {
-  std::lock_guard<std::mutex> g(mutex_);
-  paced_ = paced;
 }
 
 panda::Joints Arm::joints() const {
@@ -126,11 +123,9 @@ void Arm::control(const std::function<franka::CartesianVelocities(const franka::
   auto next = Clock::now();
   for (std::uint64_t k = 0;; ++k) {
     franka::RobotState state;
-    bool paced;
     {
       std::lock_guard<std::mutex> g(mutex_);
       state = stateLocked();
-      paced = paced_;
     }
     const franka::CartesianVelocities c = cb(state, franka::Duration(k == 0 ? 0 : 1));
     const Eigen::Map<const Eigen::Matrix<double, 6, 1>> v(c.O_dP_EE.data());
@@ -183,12 +178,10 @@ void Arm::control(const std::function<franka::CartesianVelocities(const franka::
       return;
     }
     lock.unlock();
-    if (paced) {
-      next += std::chrono::milliseconds(1);
-      const auto now = Clock::now();
-      if (now > next + std::chrono::milliseconds(20)) next = now;  // far behind (a loaded machine): no burst
-      std::this_thread::sleep_until(next);
-    }
+    next += std::chrono::milliseconds(1);
+    const auto now = Clock::now();
+    if (now > next + std::chrono::milliseconds(20)) next = now;  // far behind (a loaded machine): no burst
+    std::this_thread::sleep_until(next);
   }
 }
 

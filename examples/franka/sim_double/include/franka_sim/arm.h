@@ -9,7 +9,7 @@
 // an error the arm is at rest (dq = 0) until automaticErrorRecovery().
 //
 // Kinematic: joint velocity control without dynamics or contact (the arm tracks its joint
-// velocity command exactly), paced at 1 kHz of wall-clock time by default, since the
+// velocity command exactly), paced at 1 kHz of wall-clock time, since the
 // adapter's watchdog measures the age of commands on the steady clock.
 #pragma once
 
@@ -55,8 +55,6 @@ class Arm {
 
   /// The next 1 kHz cycle raises a ControlException with this text (a reflex).
   void injectReflex(const std::string& what);
-  /// Whether control() paces its callbacks at 1 kHz of wall-clock time (default true).
-  void setPaced(bool paced);
 
   panda::Joints joints() const;
   panda::Joints jointVelocities() const;
@@ -75,7 +73,7 @@ class Arm {
   mutable std::mutex mutex_;
   panda::Joints q_, dq_ = panda::Joints::Zero();
   std::uint64_t time_ms_ = 0;
-  bool faulted_ = false, paced_ = true;
+  bool faulted_ = false;
   std::string reflex_;
   ArmReport report_;
 };
