@@ -3,6 +3,8 @@
 // pushing a rigid object (tall-object references), termination, and the Status contract.
 #include <catch2/catch.hpp>
 
+#include "control_test_util.hpp"
+
 #include <cmath>
 #include <limits>
 
@@ -17,11 +19,7 @@ using Filter = DiscriminativeBayesFilter<G>;
 using Dual = DualArmPushing<double>;
 
 namespace {
-V6 v6(double a, double b, double c, double d, double e, double f) {
-  V6 v = V6::Zero();
-  v << a, b, c, d, e, f;
-  return v;
-}
+using lieservo::test::v6;
 
 // Observation covariance: 0.2 mm and 0.5° standard deviations.
 M6 obsCov() {

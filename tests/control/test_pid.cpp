@@ -2,6 +2,8 @@
 // variable time step, clipping, invalid input handling, and the per-step gain conversion.
 #include <catch2/catch.hpp>
 
+#include "control_test_util.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -17,7 +19,7 @@ using V2 = Pid2::Vector;
 using Approx = Catch::Detail::Approx;
 
 namespace {
-const double kInf = std::numeric_limits<double>::infinity();
+using lieservo::test::kInf;
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 }  // namespace
 

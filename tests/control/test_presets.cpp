@@ -3,6 +3,8 @@
 // converted library PID (mm, rad; per second) command the same velocities at the paper rate.
 #include <catch2/catch.hpp>
 
+#include "control_test_util.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -17,16 +19,12 @@ using G = SE3<double>;
 
 namespace {
 const double T = 1.0 / 20.0;  // the default assumed paper control period
-const double kInf = std::numeric_limits<double>::infinity();
+using lieservo::test::kInf;
 const double kDeg = pi<double>() / 180.0;
 
 V6 diag(const M6& m) { return m.diagonal(); }
 bool isDiagonal(const M6& m) { return (m - M6(m.diagonal().asDiagonal())).isZero(0); }
-V6 v6(double a, double b, double c, double d, double e, double f) {
-  V6 v = V6::Zero();
-  v << a, b, c, d, e, f;
-  return v;
-}
+using lieservo::test::v6;
 G pose(double x, double y, double z, double a_deg, double b_deg, double g_deg) {
   return G::fromEulerXYZ6Degrees(v6(x, y, z, a_deg, b_deg, g_deg));
 }

@@ -3,6 +3,8 @@
 // sign, the ρ* cut-off, termination, and the Status contract — on hand-built geometries.
 #include <catch2/catch.hpp>
 
+#include "control_test_util.hpp"
+
 #include <cmath>
 #include <limits>
 
@@ -18,11 +20,7 @@ using Push = PushingController<double>;
 using Eigen::Vector3d;
 
 namespace {
-V6 v6(double a, double b, double c, double d, double e, double f) {
-  V6 v = V6::Zero();
-  v << a, b, c, d, e, f;
-  return v;
-}
+using lieservo::test::v6;
 G at(double x, double y, double z) { return G(SO3<double>(), Vector3d(x, y, z)); }
 
 // Servo with zero gains and the paper's push feedforward; alignment P-only (kp) unless given.

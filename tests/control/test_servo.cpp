@@ -3,6 +3,8 @@
 // feedforward mapping v = Ad(X_ss') u_s'2, genericity over the group, and the Status contract.
 #include <catch2/catch.hpp>
 
+#include "control_test_util.hpp"
+
 #include <cmath>
 #include <limits>
 
@@ -19,11 +21,7 @@ using V6 = SE3d_::Tangent;
 using Servo = TactileServoController<SE3d_>;
 
 namespace {
-V6 v6(double a, double b, double c, double d, double e, double f) {
-  V6 v = V6::Zero();
-  v << a, b, c, d, e, f;
-  return v;
-}
+using lieservo::test::v6;
 Servo::Options pOnly(double kp) {
   Servo::Options o;
   o.pid = Servo::Pid::Options::diagonal(V6::Constant(kp), V6::Zero(), V6::Zero());

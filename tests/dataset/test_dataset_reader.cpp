@@ -12,11 +12,11 @@ using namespace lieservo::dataset;
 using Catch::Matchers::Contains;
 
 namespace {
-bool haveFile(const std::string& p) { return std::ifstream(p).good(); }
+using lieservo::test::fileReadable;
 const std::string kHeader =
     "sensor_image,pose_x,pose_y,pose_z,pose_Rx,pose_Ry,pose_Rz,shear_x,shear_y,shear_z,shear_Rx,shear_Ry,shear_Rz\n";
 
-std::string errorOf(const std::string& text) {
+std::string csvErrorOf(const std::string& text) {
   try {
     parseTargetsCsv(text, "targets.csv");
   } catch (const DatasetError& e) {
@@ -48,25 +48,25 @@ TEST_CASE("targets.csv: parsing, CRLF, blank lines, label mapping", "[collection
 }
 
 TEST_CASE("targets.csv: malformed files give file:line:col errors", "[collection][reader]") {
-  CHECK_THAT(errorOf(""), Contains("targets.csv:1:1") && Contains("missing header"));
-  CHECK_THAT(errorOf("sensor_image,pose_x\n"), Contains("targets.csv:1:1") && Contains("header has 2 columns"));
-  CHECK_THAT(errorOf("sensor_image,pose_x,pose_y,pose_z,pose_Rx,pose_Ry,pose_Rz,shear_x,shear_y,shear_z,shear_Rx,shear_Ry,Rz\n"),
+  CHECK_THAT(csvErrorOf(""), Contains("targets.csv:1:1") && Contains("missing header"));
+  CHECK_THAT(csvErrorOf("sensor_image,pose_x\n"), Contains("targets.csv:1:1") && Contains("header has 2 columns"));
+  CHECK_THAT(csvErrorOf("sensor_image,pose_x,pose_y,pose_z,pose_Rx,pose_Ry,pose_Rz,shear_x,shear_y,shear_z,shear_Rx,shear_Ry,Rz\n"),
              Contains("targets.csv:1:") && Contains("'Rz', expected 'shear_Rz'"));
-  CHECK_THAT(errorOf(kHeader + "image_1.png,0,0,0.5,1,2,0,0,0,0,0,0,1\nimage_2.png,0,0,abc,1,2,0,0,0,0,0,0,1\n"),
+  CHECK_THAT(csvErrorOf(kHeader + "image_1.png,0,0,0.5,1,2,0,0,0,0,0,0,1\nimage_2.png,0,0,abc,1,2,0,0,0,0,0,0,1\n"),
              Contains("targets.csv:3:17") && Contains("column 'pose_z'") && Contains("'abc'"));
-  CHECK_THAT(errorOf(kHeader + "image_1.png,0,0,0.5,1,2,0,0,0,0,0\n"),
+  CHECK_THAT(csvErrorOf(kHeader + "image_1.png,0,0,0.5,1,2,0,0,0,0,0\n"),
              Contains("targets.csv:2:1") && Contains("row has 11 fields, expected 13"));
-  CHECK_THAT(errorOf(kHeader + "image_1.png,0,0,inf,1,2,0,0,0,0,0,0,1\n"),
+  CHECK_THAT(csvErrorOf(kHeader + "image_1.png,0,0,inf,1,2,0,0,0,0,0,0,1\n"),
              Contains("targets.csv:2:17") && Contains("non-finite"));
-  CHECK_THAT(errorOf(kHeader + ",0,0,1,1,2,0,0,0,0,0,0,1\n"), Contains("targets.csv:2:1") && Contains("empty sensor_image"));
-  CHECK_THAT(errorOf(kHeader + "image_1.png,0,0,1,1,2,0,0,0,0,0,0,1e\n"), Contains("targets.csv:2:") && Contains("'1e'"));
+  CHECK_THAT(csvErrorOf(kHeader + ",0,0,1,1,2,0,0,0,0,0,0,1\n"), Contains("targets.csv:2:1") && Contains("empty sensor_image"));
+  CHECK_THAT(csvErrorOf(kHeader + "image_1.png,0,0,1,1,2,0,0,0,0,0,0,1e\n"), Contains("targets.csv:2:") && Contains("'1e'"));
   CHECK_THROWS_WITH(readTargetsCsv("/nonexistent/targets.csv"), Contains("/nonexistent/targets.csv") && Contains("cannot open"));
 }
 
 TEST_CASE("the real splits read completely, with the JSON quirks repaired", "[collection][reader][real-data]") {
   for (const char* split : {"train", "val"}) {
     const std::string dir = lieservo::test::dataDir() + "/" + split;
-    if (!haveFile(dir + "/targets.csv")) {
+    if (!fileReadable(dir + "/targets.csv")) {
       WARN("SKIPPED: real data not found at " << dir);
       continue;
     }

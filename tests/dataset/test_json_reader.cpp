@@ -15,9 +15,9 @@ using namespace lieservo::dataset;
 using Catch::Matchers::Contains;
 
 namespace {
-bool haveFile(const std::string& p) { return std::ifstream(p).good(); }
+using lieservo::test::fileReadable;
 
-std::string errorOf(const std::string& text, const std::string& name, JsonParseOptions o = {}) {
+std::string jsonErrorOf(const std::string& text, const std::string& name, JsonParseOptions o = {}) {
   try {
     parseJson(text, name, o);
   } catch (const DatasetError& e) {
@@ -70,7 +70,7 @@ TEST_CASE("json: malformed inputs give file:line:col errors", "[collection][json
       {"{\"a\": Infinit}", "bad.json:1:", "Invalid value"},
   };
   for (const auto& c : cases) {
-    const std::string msg = errorOf(c.text, "bad.json");
+    const std::string msg = jsonErrorOf(c.text, "bad.json");
     INFO("input: " << c.text << "\nmessage: " << msg);
     CHECK_THAT(msg, Contains(c.where) && Contains(c.what));
   }
@@ -82,7 +82,7 @@ TEST_CASE("json: malformed inputs give file:line:col errors", "[collection][json
   CHECK(nf.root[3].GetDouble() < 0);
   JsonParseOptions strict;
   strict.allow_non_finite = false;
-  CHECK_THAT(errorOf("{\"z\": [-Infinity]}", "m.json", strict), Contains("m.json:1:") && Contains("Invalid value"));
+  CHECK_THAT(jsonErrorOf("{\"z\": [-Infinity]}", "m.json", strict), Contains("m.json:1:") && Contains("Invalid value"));
   // repair mode skips an unmatched closer with a warning, still fails on other garbage
   JsonParseOptions repair;
   repair.repair_stray_closers = true;
@@ -93,7 +93,7 @@ TEST_CASE("json: malformed inputs give file:line:col errors", "[collection][json
   REQUIRE(d.warnings.size() == 2);
   CHECK_THAT(d.warnings[0], Contains("r.json:1:13") && Contains("stray ']'"));
   CHECK_THAT(d.warnings[1], Contains("r.json:2:22"));
-  CHECK_THAT(errorOf("{\"a\": [1 2]}", "r.json", repair), Contains("r.json:1:10"));
+  CHECK_THAT(jsonErrorOf("{\"a\": [1 2]}", "r.json", repair), Contains("r.json:1:10"));
   // deep nesting: the iterative parser needs no recursion
   const JsonDocument deep = parseJson(std::string(100000, '[') + std::string(100000, ']'), "deep.json");
   CHECK(deep.root.IsArray());
@@ -123,7 +123,7 @@ TEST_CASE("json writer: valid JSON, numbers read back exactly, non-finite as nul
 
 TEST_CASE("json: the real parameter files", "[collection][json][real-data]") {
   const std::string dir = lieservo::test::dataDir() + "/train";
-  if (!haveFile(dir + "/collect_params.json")) {
+  if (!fileReadable(dir + "/collect_params.json")) {
     WARN("SKIPPED: real data not found at " << dir);
     return;
   }

@@ -21,7 +21,7 @@ std::string writeCard(const std::string& dir, const std::string& data, const std
   return card;
 }
 
-std::string errorOf(const std::string& card) {
+std::string cardErrorOf(const std::string& card) {
   try {
     readTrainedOn(card);
   } catch (const DatasetError& e) {
@@ -72,21 +72,21 @@ TEST_CASE("trained_on: whole splits and held-out rows", "[dataset][trained_on]")
 TEST_CASE("trained_on: malformed cards and lists are refused, naming the file", "[dataset][trained_on]") {
   const std::string dir = file_test::makeTempDir("trained_on_bad");
   const std::string list = dir + "/held_out.csv";
-  CHECK_THAT(errorOf(writeCard(dir, R"({"trained_on": [6000]})")), Contains("model_card.json:") && Contains("object"));
-  CHECK_THAT(errorOf(writeCard(dir, R"({"trained_on": {"train": -1}})")), Contains("trained_on.train"));
-  CHECK_THAT(errorOf(writeCard(dir, R"({"trained_on": {"train": 5}, "held_out": {"train": 1}})")),
+  CHECK_THAT(cardErrorOf(writeCard(dir, R"({"trained_on": [6000]})")), Contains("model_card.json:") && Contains("object"));
+  CHECK_THAT(cardErrorOf(writeCard(dir, R"({"trained_on": {"train": -1}})")), Contains("trained_on.train"));
+  CHECK_THAT(cardErrorOf(writeCard(dir, R"({"trained_on": {"train": 5}, "held_out": {"train": 1}})")),
              Contains("\"file\""));
   std::remove(list.c_str());
-  CHECK_THAT(errorOf(writeCard(dir, R"({"trained_on": {"train": 5}, "held_out": {"train": 1, "file": "held_out.csv"}})")),
+  CHECK_THAT(cardErrorOf(writeCard(dir, R"({"trained_on": {"train": 5}, "held_out": {"train": 1, "file": "held_out.csv"}})")),
              Contains(list) && Contains("cannot read"));
   // A list that does not match the card's counts (a stale file) would mislabel images.
-  CHECK_THAT(errorOf(writeCard(dir, R"({"trained_on": {"train": 5}, "held_out": {"train": 2, "file": "held_out.csv"}})",
+  CHECK_THAT(cardErrorOf(writeCard(dir, R"({"trained_on": {"train": 5}, "held_out": {"train": 2, "file": "held_out.csv"}})",
                                "split,sensor_image\ntrain,image_2.png\n")),
              Contains("held_out.train") && Contains("1 rows"));
-  CHECK_THAT(errorOf(writeCard(dir, R"({"trained_on": {"train": 5}, "held_out": {"train": 1, "file": "held_out.csv"}})",
+  CHECK_THAT(cardErrorOf(writeCard(dir, R"({"trained_on": {"train": 5}, "held_out": {"train": 1, "file": "held_out.csv"}})",
                                "split,sensor_image\ntrain,image_2.png,extra\n")),
              Contains(list + ":2:1") && Contains("split,sensor_image"));
-  CHECK_THAT(errorOf(dir + "/missing.json"), Contains("missing.json"));
+  CHECK_THAT(cardErrorOf(dir + "/missing.json"), Contains("missing.json"));
   file_test::removeTree(dir);
 }
 

@@ -138,7 +138,7 @@ TEST_CASE("Series tables match their defining formulas", "[core][coefficients]")
   cmp(d::kSeriesAtan, [](int k) { return sgn(k) / (2 * k + 1); });
 }
 
-TEST_CASE("Every coefficient is accurate against a long-double reference on [0, 3]", "[core][coefficients]") {
+TEST_CASE("Every coefficient is accurate against a long-double reference for 0 <= theta <= 3", "[core][coefficients]") {
   const std::vector<double> g = grid();
   const auto& cd = d::Cutoffs<double>::get();
   const auto& cf = d::Cutoffs<float>::get();

@@ -36,7 +36,7 @@ LIESERVO_GROUP_SUITE(SE2, "SE2")
 
 TEST_CASE("SE2 BCH approximations have O(|xi_small|^2) error", "[core][se2]") { lst::checkBch<lieservo::SE2d>(); }
 
-TEST_CASE("SO2 log returns (-pi, pi] with +pi at a half turn", "[core][so2]") {
+TEST_CASE("SO2 log returns -pi < theta <= pi, with +pi at a half turn", "[core][so2]") {
   using G = lieservo::SO2d;
   CHECK(G::fromCosSinUnchecked(-1.0, 0.0).angle() == lieservo::pi<double>());
   CHECK(G::fromCosSinUnchecked(-1.0, -0.0).angle() == lieservo::pi<double>());

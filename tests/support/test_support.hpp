@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <fstream>
 #include <string>
 
 namespace lieservo::test {
@@ -30,5 +31,8 @@ inline std::string dataDir() {
   return "";
 #endif
 }
+
+/// Whether `path` names a file this process can open for reading.
+inline bool fileReadable(const std::string& path) { return std::ifstream(path).good(); }
 
 }  // namespace lieservo::test
