@@ -135,6 +135,55 @@ TEST_CASE("franka adapter on the double: 20 Hz commands move the arm, a stalled 
   CHECK(sim.arm->report().errors == 0);
 }
 
+TEST_CASE("franka adapter on the double: late frames within the timeout keep it moving, a longer gap rests it until "
+          "fresh frames return",
+          "[robot][franka]") {
+  SimArm sim("sim-panda-late");
+  FrankaAdapter adapter(sim.options());
+  Twist v = Twist::Zero();
+  v[0] = 10.0;  // mm/s along the sensor's x
+  // A camera and model that deliver late: intervals of 30 to 150 ms, under the 0.2 s timeout
+  // with room for a loaded test machine.
+  const int gaps_ms[] = {30, 120, 150, 60, 150, 90, 140, 40};
+  int trips = 0;
+  auto next = Clock::now();
+  for (int i = 0; i < 24; ++i) {
+    REQUIRE(adapter.commandVelocity(v, 0.05) == Status::ok);
+    if (i >= 3 && adapter.stats().watchdog != WatchdogState::active) ++trips;  // armed after 3
+    next += std::chrono::milliseconds(gaps_ms[i % 8]);
+    std::this_thread::sleep_until(next);
+  }
+  CHECK(trips == 0);
+  CHECK_FALSE(atRest(*sim.arm));
+
+  // A frame 0.4 s late (over the timeout): the arm comes to rest while it waits ...
+  const auto t_last = Clock::now();
+  REQUIRE(adapter.commandVelocity(v, 0.05) == Status::ok);
+  const double t_rest = waitFor([&] { return atRest(*sim.arm); }, 0.4);
+  INFO("at rest " << t_rest << " s after the last command");
+  REQUIRE(t_rest >= 0);
+  CHECK(t_rest <= 0.2 + 0.15);  // the timeout, then the ramp down and scheduling
+  CHECK(adapter.stats().watchdog == WatchdogState::tripped_timeout);
+  std::this_thread::sleep_until(t_last + std::chrono::milliseconds(400));
+
+  // ... and moves again once fresh frames are back (3 in a row re-arm the watchdog).
+  SE3d X0;
+  REQUIRE(adapter.readPose(X0) == Status::ok);
+  commandFor(adapter, v, 12);  // 0.6 s at 20 Hz
+  CHECK(adapter.stats().watchdog == WatchdogState::active);
+  CHECK_FALSE(atRest(*sim.arm));
+  SE3d X1;
+  REQUIRE(adapter.readPose(X1) == Status::ok);
+  const Twist d = (X0.inverse() * X1).log();
+  INFO("moved " << d.transpose() << " mm after the gap");
+  CHECK(d[0] >= 2.0);  // 10 mm/s for 0.6 s less the re-arming (0.15 s) and the ramp up
+  CHECK(d[0] <= 7.0);
+  adapter.stop();
+  CHECK(atRest(*sim.arm));
+  CHECK(sim.arm->report().errors == 0);  // no discontinuity libfranka would have rejected
+  CHECK_FALSE(adapter.stats().faulted);
+}
+
 TEST_CASE("franka adapter on the double: bad commands are refused and start nothing", "[robot][franka]") {
   SimArm sim("sim-panda-bad");
   FrankaAdapter adapter(sim.options());
