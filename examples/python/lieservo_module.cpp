@@ -278,12 +278,12 @@ void bindEstimation(py::module_& m, const std::string& suffix) {
       ("from_tangent_gaussian" + suffix).c_str(),
       [](const Checked<Tangent>& mu, const Checked<Tangent>& sigma) {
         Gaussian out;
-        check(fromTangentGaussian<ClosedFormJacobian>(mu.value, sigma.value, out), "from_tangent_gaussian");
+        check(fromTangentGaussian(mu.value, sigma.value, out), "from_tangent_gaussian");  // DefaultJacobian, as Filter
         return out;
       },
       py::arg("mu"), py::arg("sigma"),
       "A network's (μ, σ) as a concentrated Gaussian: X̄ = exp(μ^), Σ = J(μ) diag(σ²) J(μ)ᵀ "
-      "(eq. 14, eq:se3_inverse_transform).");
+      "(eq. 14, eq:se3_inverse_transform), J by the paper's second-order series as in the filter's fusion.");
 
   m.def(
       ("fuse" + suffix).c_str(),
@@ -320,7 +320,7 @@ void bindEstimation(py::module_& m, const std::string& suffix) {
       "'information' (default; hands ill-conditioned factors to the square-root form) or 'square_root'. "
       "Returns a dict: fused, iterations, step_norm, step_sigmas, converged, max_rotation_separation.");
 
-  using Filter = DiscriminativeBayesFilter<G, PaperJacobian>;
+  using Filter = DiscriminativeBayesFilter<G, DefaultJacobian>;
   const std::string fname = "DiscriminativeBayesFilter" + suffix;
   py::class_<Filter>(m, fname.c_str(),
                      "The discriminative Bayes filter (Algorithm 2, alg:se3_bayes_filter), series J⁻¹ N = 2 as the paper.")

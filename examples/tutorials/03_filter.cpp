@@ -72,6 +72,8 @@ int main() {
   // in the paper's filter experiment, we set it to the true dynamics noise: Σφ = Σψ.
   // The correction step uses the paper's data fusion: 5 iterations (real-time mode) and the
   // second-order inverse-Jacobian series (PaperJacobian) of Algorithm 3 (alg:se3_data_fusion).
+  // That series is the library's one default (DefaultJacobian): fromTangentGaussian below
+  // converts each observation with it too, so the observation is linearised one way.
   DiscriminativeBayesFilter<G>::Options options;
   options.process_noise = sigma_psi.array().square().matrix().asDiagonal();
   options.fusion.max_iterations = 5;

@@ -293,11 +293,17 @@ TEST_CASE("onnx: a GDN prediction as the SE(3) observation Gaussian (eq. 14, eq:
   REQUIRE(toObservation(p, obs) == lieservo::Status::ok);
   const lieservo::SE3d::Tangent mu = p.mu;
   CHECK(obs.mean.isApprox(lieservo::SE3d::exp(mu), 1e-12));
-  const lieservo::SE3d::Jacobian J = lieservo::SE3d::leftJacobian(mu);
   REQUIRE(p.sigma.has_value());
   const lieservo::SE3d::Jacobian S = p.sigma->array().square().matrix().asDiagonal();
-  CHECK((obs.covariance - J * S * J.transpose()).norm() <= 1e-12 * S.norm());
+  // J by the library's one default on the observation path (the paper's series), the
+  // Jacobian the filter's fusion uses; the exact J with ClosedFormJacobian.
+  const lieservo::SE3d::Jacobian Jd = lieservo::DefaultJacobian::forward<lieservo::SE3d>(mu);
+  CHECK((obs.covariance - Jd * S * Jd.transpose()).norm() <= 1e-12 * S.norm());
   CHECK(obs.validate() == lieservo::Status::ok);
+  lieservo::ConcentratedGaussian<lieservo::SE3d> exact;
+  REQUIRE(toObservation<lieservo::ClosedFormJacobian>(p, exact) == lieservo::Status::ok);
+  const lieservo::SE3d::Jacobian J = lieservo::SE3d::leftJacobian(mu);
+  CHECK((exact.covariance - J * S * J.transpose()).norm() <= 1e-12 * S.norm());
 
   // A CNN prediction has no σ: refused, output untouched.
   OnnxPoseModel cnn = OnnxPoseModel::fromCard(kData + "/tiny_model_card.json", ModelKind::cnn);

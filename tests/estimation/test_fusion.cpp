@@ -7,7 +7,9 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <type_traits>
 
+#include <lieservo/estimation/bayes_filter.hpp>
 #include <lieservo/sampling/random.hpp>
 
 #include "estimation_test_helpers.hpp"
@@ -214,23 +216,37 @@ TEST_CASE("concentrated Gaussian: tangent conversions, transform, inverse, compo
       const G::Tangent mu = randn<G::Tangent>(rng, 0.5);
       const G::Tangent sigma = realisticSigma<G>(rng);
       ConcentratedGaussian<G> x;
-      REQUIRE(fromTangentGaussian(mu, sigma, x) == Status::ok);
+      REQUIRE(fromTangentGaussian<ClosedFormJacobian>(mu, sigma, x) == Status::ok);
       CHECK(x.mean.isApprox(G::exp(mu), 1e-12));
       const G::Jacobian J = G::leftJacobian(mu);
       const G::Jacobian S0 = sigma.array().square().matrix().asDiagonal();
       CHECK(relDiff(x.covariance, (J * S0 * J.transpose()).eval()) < 1e-12);
       G::Tangent mu2;
       G::Jacobian S2;
-      REQUIRE(toTangentGaussian(x, mu2, S2) == Status::ok);
+      REQUIRE(toTangentGaussian<ClosedFormJacobian>(x, mu2, S2) == Status::ok);
       CHECK((mu2 - mu).norm() < 1e-12);
       CHECK(relDiff(S2, S0) < 1e-10);
       // The paper's second-order truncation of J is close for small μ (error O(|ξ|³)).
       const G::Tangent mu_small = 0.2 * mu;
       ConcentratedGaussian<G> xp, xc;
       REQUIRE(fromTangentGaussian<PaperJacobian>(mu_small, sigma, xp) == Status::ok);
-      REQUIRE(fromTangentGaussian(mu_small, sigma, xc) == Status::ok);
+      REQUIRE(fromTangentGaussian<ClosedFormJacobian>(mu_small, sigma, xc) == Status::ok);
       CHECK(relDiff(xp.covariance, xc.covariance) < 0.01);
+      // One default on the observation path (DefaultJacobian): the conversions without a
+      // policy are the paper's series, bitwise, as the filter's and fusion's defaults are.
+      ConcentratedGaussian<G> xd;
+      REQUIRE(fromTangentGaussian(mu_small, sigma, xd) == Status::ok);
+      CHECK(xd.mean.matrix() == xp.mean.matrix());
+      CHECK(xd.covariance == xp.covariance);
+      G::Tangent mu_d, mu_p;
+      G::Jacobian S_d, S_p;
+      REQUIRE(toTangentGaussian(xd, mu_d, S_d) == Status::ok);
+      REQUIRE(toTangentGaussian<PaperJacobian>(xd, mu_p, S_p) == Status::ok);
+      CHECK(mu_d == mu_p);
+      CHECK(S_d == S_p);
     }
+    STATIC_REQUIRE(std::is_same<DefaultJacobian, PaperJacobian>::value);
+    STATIC_REQUIRE(std::is_same<DiscriminativeBayesFilter<G>, DiscriminativeBayesFilter<G, DefaultJacobian>>::value);
     ConcentratedGaussian<G> x;
     const ConcentratedGaussian<G> before = x;
     G::Tangent bad = G::Tangent::Ones();

@@ -35,7 +35,7 @@ inline Status observeContact(ObservationSource& gdn, const ContactState& state, 
   GdnObservation obs;
   const Status s = gdn.observe(state, obs);
   if (s != Status::ok) return s;
-  return lieservo::fromTangentGaussian<lieservo::ClosedFormJacobian>(obs.mu, obs.sigma, g);
+  return lieservo::fromTangentGaussian(obs.mu, obs.sigma, g);  // DefaultJacobian, as the filter
 }
 
 /// Observation + filter step at sensor pose X_ws; X_sf receives the filtered mean. An

@@ -46,7 +46,7 @@ typename G::Jacobian paperProcessNoise() noexcept {
   return S;
 }
 
-template <class G, class Policy = PaperJacobian>
+template <class G, class Policy = DefaultJacobian>
 class DiscriminativeBayesFilter {
  public:
   using Group = G;

@@ -138,12 +138,12 @@ ConcentratedGaussian<G> compose(const ConcentratedGaussian<G>& a,
 /// From a Gaussian in exponential coordinates ξ ~ N(μ, Σξ) to a concentrated Gaussian
 /// (eq. 14, eq:se3_inverse_transform, inverting eq. 38 (eqn:glob_tangent_space_pdf)):
 ///     X̄ = exp(μ^),   Σ = J(μ) Σξ J(μ)ᵀ,
-/// J evaluated by the policy (closed form by default; SeriesJacobian<2> for the paper's
-/// truncation). μ must lie in the principal branch of ln, rotation angle |φ| ≤ π: beyond it
+/// J evaluated by the policy (DefaultJacobian, the paper's truncation, which the fusion and the
+/// filter also use by default; ClosedFormJacobian for the exact J). μ must lie in the principal branch of ln, rotation angle |φ| ≤ π: beyond it
 /// the same X̄ has a shorter μ, and J(μ) tends to singular at 2π (condition numbers ~1e67), so
 /// the covariance would be meaningless. Status: non_finite_input, invalid_argument (|φ| > π),
 /// not_spd (Σξ), numerical_failure (a non-finite result).
-template <class Policy = ClosedFormJacobian, class G>
+template <class Policy = DefaultJacobian, class G>
 Status fromTangentCovariance(const typename G::Tangent& mu, const typename G::Jacobian& Sigma_xi,
                              ConcentratedGaussian<G>& out) noexcept {
   using Scalar = typename G::Scalar;
@@ -163,7 +163,7 @@ Status fromTangentCovariance(const typename G::Tangent& mu, const typename G::Ja
 
 /// eq. 14 (eq:se3_inverse_transform) with a diagonal tangent covariance diag(σ²): the form of the
 /// GDN output (μ, σ), σ per component (all > 0).
-template <class Policy = ClosedFormJacobian, class G>
+template <class Policy = DefaultJacobian, class G>
 Status fromTangentGaussian(const typename G::Tangent& mu, const typename G::Tangent& sigma,
                            ConcentratedGaussian<G>& out) noexcept {
   if (!mu.allFinite() || !sigma.allFinite()) return Status::non_finite_input;
@@ -176,7 +176,7 @@ Status fromTangentGaussian(const typename G::Tangent& mu, const typename G::Tang
 /// (eq. 37, eqn:glob_tangent_space_approx, eq. 38 (eqn:glob_tangent_space_pdf)):
 ///     μ = ln(X̄)^∨,   Σξ = J(μ)⁻¹ Σ J(μ)⁻ᵀ.
 /// Meaningful while the rotation angle of μ is below π (ln is then unique).
-template <class Policy = ClosedFormJacobian, class G>
+template <class Policy = DefaultJacobian, class G>
 Status toTangentGaussian(const ConcentratedGaussian<G>& x, typename G::Tangent& mu,
                          typename G::Jacobian& Sigma_xi) noexcept {
   Status s = validate(x);

@@ -569,7 +569,7 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
 /// max_iterations, with require_convergence);
 /// numerical_failure (a non-finite or non-SPD intermediate/result). `result` is written only
 /// when the Status is ok. noexcept, allocation-free.
-template <class Policy = PaperJacobian, class G>
+template <class Policy = DefaultJacobian, class G>
 Status fuse(const ConcentratedGaussian<G>* factors, int count,
             const FusionOptions<typename G::Scalar>& options, FusionResult<G>& result) noexcept {
   if (factors == nullptr || count < 1 || count > kMaxFusionFactors) return Status::invalid_argument;
@@ -589,7 +589,7 @@ Status fuse(const ConcentratedGaussian<G>* factors, int count,
 
 /// Fusion of two factors (Algorithm 3, alg:se3_data_fusion); the operating point starts at `first.mean`
 /// (in the filter: the observation, as in the paper). See the N-ary overload for the Status.
-template <class Policy = PaperJacobian, class G>
+template <class Policy = DefaultJacobian, class G>
 Status fuse(const ConcentratedGaussian<G>& first, const ConcentratedGaussian<G>& second,
             const FusionOptions<typename G::Scalar>& options, FusionResult<G>& result) noexcept {
   const ConcentratedGaussian<G> factors[2] = {first, second};

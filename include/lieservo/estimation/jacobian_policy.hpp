@@ -79,4 +79,11 @@ struct SeriesJacobian {
 /// The paper's choice: second-order series (Algorithm 3, alg:se3_data_fusion).
 using PaperJacobian = SeriesJacobian<2>;
 
+/// The one default of the observation path: fromTangentGaussian / fromTangentCovariance /
+/// toTangentGaussian, fuse and DiscriminativeBayesFilter all linearise with it unless given
+/// another policy, so an observation is converted (eq. 14, eq:se3_inverse_transform) with the
+/// same Jacobian the fusion iterates with. It is the paper's series; pass ClosedFormJacobian
+/// to all of them for the exact Jacobian (docs/estimation.md, "One default").
+using DefaultJacobian = PaperJacobian;
+
 }  // namespace lieservo

@@ -14,7 +14,7 @@ namespace lieservo::adapters {
 
 /// invalid_argument for a CNN prediction (no σ); otherwise fromTangentGaussian's Status
 /// (non_finite_input, not_spd for σ ≤ 0, numerical_failure). `out` unchanged unless ok.
-template <class Policy = ClosedFormJacobian>
+template <class Policy = DefaultJacobian>
 Status toObservation(const Prediction& p, ConcentratedGaussian<SE3d>& out) noexcept {
   if (!p.sigma) return Status::invalid_argument;
   return fromTangentGaussian<Policy>(SE3d::Tangent(p.mu), SE3d::Tangent(*p.sigma), out);
