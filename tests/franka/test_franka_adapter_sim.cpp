@@ -240,3 +240,38 @@ TEST_CASE("franka adapter on the double: a twist that drives a joint into its li
   CHECK(panda::jointLimitMargin(sim.arm->joints()) >= 0);
   CHECK(sim.arm->report().errors == 1);
 }
+
+TEST_CASE("franka adapter on the double: a twist that leaves the workspace stops at rest inside it", "[robot][franka]") {
+  // Straight out along the base's x at 100 mm/s from the ready pose: the target leaves the
+  // Panda's reach (855 mm from the shoulder, 333 mm above the base) within about 5 s. The
+  // arm must stop on a reflex of the joints (their position or velocity limits, as the real
+  // robot would near a stretched elbow or the singularity there), at rest, with no
+  // discontinuity that libfranka would reject, and inside its reach.
+  SimArm sim("sim-panda-workspace");
+  FrankaAdapter adapter(sim.options());
+  SE3d X0;
+  REQUIRE(adapter.readPose(X0) == Status::ok);
+  Twist w = Twist::Zero();
+  w.head<3>() = X0.rotationMatrix().transpose() * Eigen::Vector3d(100, 0, 0);  // mm/s, sensor frame
+  auto next = Clock::now();
+  for (int i = 0; i < 300 && !adapter.stats().faulted; ++i) {  // ≤ 15 s at 20 Hz
+    (void)adapter.commandVelocity(w, 0.05);
+    next += std::chrono::milliseconds(50);
+    std::this_thread::sleep_until(next);
+  }
+  REQUIRE(waitFor([&] { return adapter.stats().faulted; }, 1.0) >= 0);
+  const std::string error = adapter.lastError();
+  INFO(error);
+  CHECK((error.find("joint_position_limits_violation") != std::string::npos ||
+         error.find("joint_velocity_limits_violation") != std::string::npos));
+  CHECK(error.find("discontinuity") == std::string::npos);
+  CHECK(atRest(*sim.arm));
+  CHECK(panda::jointLimitMargin(sim.arm->joints()) >= 0);
+  CHECK(sim.arm->report().errors == 1);
+  const Eigen::Matrix4d T = panda::flange(sim.arm->joints());
+  const Eigen::Vector3d from_shoulder = T.block<3, 1>(0, 3) - Eigen::Vector3d(0, 0, 0.333);
+  INFO("flange " << 1e3 * (T(0, 3) - 1e-3 * X0.translation().x()) << " mm further out, " << 1e3 * from_shoulder.norm()
+                 << " mm from the shoulder");
+  CHECK(from_shoulder.norm() <= 0.855);
+  CHECK(T(0, 3) - 1e-3 * X0.translation().x() >= 0.2);  // it was driven out before it stopped
+}

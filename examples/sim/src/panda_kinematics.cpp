@@ -3,9 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
 
 namespace lieservo::sim::panda {
 
@@ -69,6 +71,20 @@ ResolvedRate resolvedRate(const Joints& q, const Twist& v, const ResolvedRateOpt
   if (r.sigma_min < options.singular_band) {
     const double f = r.sigma_min / options.singular_band;
     r.lambda = options.damping * std::sqrt(1.0 - f * f);
+    // J⁺v = Σ v_i (u_iᵀv / σ_i): a twist component along a vanishing σ_i needs unbounded speed.
+    const Eigen::JacobiSVD<Jacobian> svd(J, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Joints exact = Joints::Zero();
+    for (int i = 0; i < 6; ++i) {
+      const double c = svd.matrixU().col(i).dot(v);
+      if (c == 0.0) continue;
+      const double s = svd.singularValues()[i];
+      if (s == 0.0) {
+        r.exact_speed_ratio = std::numeric_limits<double>::infinity();
+        break;
+      }
+      exact += svd.matrixV().col(i) * (c / s);
+    }
+    if (r.exact_speed_ratio == 0.0) r.exact_speed_ratio = (exact.cwiseAbs().array() / velocityLimits().array()).maxCoeff();
   }
   const Eigen::Matrix<double, 6, 6> A = JJt + r.lambda * r.lambda * Eigen::Matrix<double, 6, 6>::Identity();
   r.dq = J.transpose() * A.ldlt().solve(v);

@@ -160,7 +160,9 @@ void Arm::control(const std::function<franka::CartesianVelocities(const franka::
 
     // Resolved rate, then one 1 ms step of the joints.
     const panda::ResolvedRate r = panda::resolvedRate(q_, v);
-    if (r.scale < 1.0) fail("cartesian_motion_generator_joint_velocity_limits_violation");
+    // The robot follows the twist exactly (no damping): where that needs a joint faster than its
+    // limit, near a singularity or where the twist leaves the workspace, it stops on a reflex.
+    if (r.scale < 1.0 || r.exact_speed_ratio > 1.0) fail("cartesian_motion_generator_joint_velocity_limits_violation");
     const panda::Jacobian J = panda::jacobian(q_);
     const double twist_error = (J * r.dq - v).norm();
     if (r.lambda > 0) ++report_.damped_cycles;

@@ -79,6 +79,10 @@ struct ResolvedRate {
   double lambda = 0.0;         ///< the damping used
   double sigma_min = 0.0;      ///< J's smallest singular value
   double scale = 1.0;          ///< ≤ 1: how far dq was scaled down to the velocity limits
+  /// Where damping acts (lambda > 0): max_i |dq_i| / limit_i of the undamped minimum-norm
+  /// solution J⁺v, the joint speed an arm that follows the twist exactly would need (infinite
+  /// at a singularity the twist pushes into); 0 where lambda = 0 (dq is then that solution).
+  double exact_speed_ratio = 0.0;
 };
 
 /// dq for the flange twist v at q (damped least squares, scaled to the velocity limits).
