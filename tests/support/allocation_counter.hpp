@@ -1,7 +1,9 @@
 // Counts heap allocations in a scope, to prove that real-time steps never allocate.
-// Link the object library lieservo_allocation_counter (tests/CMakeLists.txt): it replaces the
-// global operator new/delete of the executable (C++17 [replacement.functions]) with versions
-// that count while an AllocationCounter is alive. Catch2's own allocations happen outside it.
+// Link the object library lieservo_allocation_counter (tests/CMakeLists.txt). It counts, while
+// an AllocationCounter is alive, every operator new (a replaced global operator new/delete,
+// C++17 [replacement.functions]) or, under AddressSanitizer or ThreadSanitizer, every
+// allocation the sanitizer's allocator sees (its malloc hook; operator new stays the
+// sanitizer's). Catch2's own allocations happen outside the scope.
 #pragma once
 
 namespace lieservo::test {
