@@ -103,3 +103,37 @@ TEST_CASE("camera: missing sources throw at set-up with the path", "[adapters][c
   // A device index with no camera behind it.
   CHECK_THROWS_WITH(TactileCamera(97, pre), Catch::Contains("camera device 97"));
 }
+
+TEST_CASE("camera: a stale frame (bitwise the one before) is refused, the next fresh one delivered",
+          "[adapters][camera]") {
+  // Frames 0, 1, 1 again (a frozen driver re-delivering its buffer), 2.
+  const std::string dir = file_test::makeTempDir("camstale");
+  const Preprocessor pre;
+  const int shifts[] = {0, 3, 3, 6};
+  for (int i = 0; i < 4; ++i) cv::imwrite(dir + "/frame_" + std::to_string(i) + ".png", synthetic::makeRawFrame(shifts[i]).bgr);
+  TactileCamera cam(dir + "/frame_%d.png", pre);
+  CameraFrame f;
+  REQUIRE(cam.next(f) == Status::ok);
+  REQUIRE(cam.next(f) == Status::ok);
+  const CameraFrame before = f;
+  CHECK(cam.next(f) == Status::device_error);
+  CHECK(cam.lastError().find("stale frame") != std::string::npos);
+  CHECK(cam.lastError().find("read 3") != std::string::npos);
+  CHECK(f.index == before.index);  // the frame is left as it was
+  CHECK(f.stamp == before.stamp);
+  CHECK(cam.framesDelivered() == 2);
+  REQUIRE(cam.next(f) == Status::ok);  // fresh again
+  cv::Mat expected;
+  REQUIRE(pre.processRaw(synthetic::makeRawFrame(6).bgr, expected) == Status::ok);
+  CHECK(cv::norm(f.image, expected, cv::NORM_INF) == 0.0);
+  CHECK(f.index == 2);
+  CHECK(cam.next(f) == Status::end_of_stream);
+
+  // With the check off, the repeated frame is delivered like any other.
+  CameraOptions keep;
+  keep.refuse_stale = false;
+  TactileCamera all(dir + "/frame_%d.png", pre, keep);
+  for (int i = 0; i < 4; ++i) REQUIRE(all.next(f) == Status::ok);
+  CHECK(all.framesDelivered() == 4);
+  file_test::removeTree(dir);
+}

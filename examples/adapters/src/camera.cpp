@@ -72,6 +72,17 @@ Status TactileCamera::next(CameraFrame& frame) {
     last_error_ = source_ + ": end of stream after " + std::to_string(delivered_) + " frames";
     return Status::end_of_stream;
   }
+  ++read_;
+  if (opt_.refuse_stale) {
+    const bool stale = !previous_.empty() && previous_.size == f.raw.size && previous_.type() == f.raw.type() &&
+                       cv::norm(previous_, f.raw, cv::NORM_INF) == 0.0;
+    f.raw.copyTo(previous_);
+    if (stale) {
+      last_error_ = source_ + ": stale frame: read " + std::to_string(read_) +
+                    " is bitwise the one before it (a frozen camera re-delivers its last buffer)";
+      return Status::device_error;
+    }
+  }
   const Status s = opt_.input == FrameInput::raw ? pre_.processRaw(f.raw, f.image) : pre_.fromProcessed(f.raw, f.image);
   if (s != Status::ok) {
     last_error_ = source_ + " frame " + std::to_string(delivered_) + ": " + pre_.lastError();

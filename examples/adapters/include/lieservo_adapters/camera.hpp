@@ -8,7 +8,8 @@
 // images (such as the data set's processed_images/).
 //
 // Opening throws std::runtime_error (set-up). next() never throws and returns a
-// lieservo::Status: device_error for a live camera that stops delivering frames,
+// lieservo::Status: device_error for a live camera that stops delivering frames or for a
+// stale frame (bitwise the frame before: a frozen driver re-delivering its last buffer),
 // end_of_stream for a file/sequence that ends, invalid_argument for a frame of the wrong
 // size or type; lastError() gives the detail.
 #pragma once
@@ -35,6 +36,11 @@ struct CameraOptions {
   /// ("/dev/video…") or a stream URL ("…://…"), or when this is set; otherwise a failed
   /// read is the end of the file/sequence (end_of_stream).
   bool force_live = false;
+  /// A frame bitwise equal to the one read before it is stale and refused (device_error, not
+  /// delivered): a live TacTip image always changes by its sensor noise, and a frozen camera
+  /// or driver re-delivers its last buffer. The loop then sends no command from it, and the
+  /// robot's watchdog stops the arm if no fresh frame follows (docs/hardware.md).
+  bool refuse_stale = true;
 };
 
 struct CameraFrame {
@@ -72,6 +78,8 @@ class TactileCamera {
   bool live_ = false;
   bool lost_ = false;
   std::uint64_t delivered_ = 0;
+  std::uint64_t read_ = 0;  ///< frames read, stale ones included
+  cv::Mat previous_;        ///< the last frame read (refuse_stale)
   std::string last_error_;
 };
 
