@@ -137,3 +137,29 @@ TEST_CASE("camera: a stale frame (bitwise the one before) is refused, the next f
   CHECK(all.framesDelivered() == 4);
   file_test::removeTree(dir);
 }
+
+TEST_CASE("camera: a live source reads past a stale frame, and reports a frozen one", "[adapters][camera]") {
+  const std::string dir = file_test::makeTempDir("camfrozen");
+  const Preprocessor pre;
+  // 0, 1, 1, 2, then 2 three times more: one repeat is read past, four in a row are a frozen camera.
+  const int shifts[] = {0, 3, 3, 6, 6, 6, 6};
+  for (int i = 0; i < 7; ++i) cv::imwrite(dir + "/frame_" + std::to_string(i) + ".png", synthetic::makeRawFrame(shifts[i]).bgr);
+  CameraOptions live;
+  live.force_live = true;  // max_consecutive_failures = 3
+  TactileCamera cam(dir + "/frame_%d.png", pre, live);
+  CameraFrame f;
+  REQUIRE(cam.next(f) == Status::ok);
+  REQUIRE(cam.next(f) == Status::ok);
+  REQUIRE(cam.next(f) == Status::ok);  // the repeat of frame 1 is read past
+  cv::Mat expected;
+  REQUIRE(pre.processRaw(synthetic::makeRawFrame(6).bgr, expected) == Status::ok);
+  CHECK(cv::norm(f.image, expected, cv::NORM_INF) == 0.0);
+  CHECK(f.index == 2);
+  const CameraFrame before = f;
+  CHECK(cam.next(f) == Status::device_error);  // three reads in a row, each bitwise the one before
+  CHECK(cam.lastError().find("stale frame") != std::string::npos);
+  CHECK(cam.lastError().find("3 reads in a row") != std::string::npos);
+  CHECK(f.index == before.index);
+  CHECK(cam.framesDelivered() == 3);
+  file_test::removeTree(dir);
+}

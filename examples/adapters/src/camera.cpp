@@ -52,15 +52,30 @@ Status TactileCamera::next(CameraFrame& frame) {
   }
   CameraFrame f;
   const int attempts = live_ ? std::max(1, opt_.max_consecutive_failures) : 1;
-  bool got = false;
+  bool got = false, stale = false;
   for (int i = 0; i < attempts && !got; ++i) {
     try {
       got = cap_.read(f.raw) && !f.raw.empty();
     } catch (const cv::Exception&) {
       got = false;
     }
+    stale = false;
+    if (!got) continue;
+    ++read_;
+    if (opt_.refuse_stale) {
+      stale = !previous_.empty() && previous_.size == f.raw.size && previous_.type() == f.raw.type() &&
+              cv::norm(previous_, f.raw, cv::NORM_INF) == 0.0;
+      f.raw.copyTo(previous_);
+      got = !stale;  // a stale read counts as a failed one: a live camera reads again
+    }
   }
   f.stamp = std::chrono::steady_clock::now();
+  if (stale) {
+    last_error_ = source_ + ": stale frame: read " + std::to_string(read_) + " is bitwise the one before it" +
+                  (attempts > 1 ? " (" + std::to_string(attempts) + " reads in a row)" : std::string()) +
+                  ": a frozen camera re-delivers its last buffer";
+    return Status::device_error;
+  }
   if (!got) {
     lost_ = true;
     if (live_) {
@@ -71,17 +86,6 @@ Status TactileCamera::next(CameraFrame& frame) {
     }
     last_error_ = source_ + ": end of stream after " + std::to_string(delivered_) + " frames";
     return Status::end_of_stream;
-  }
-  ++read_;
-  if (opt_.refuse_stale) {
-    const bool stale = !previous_.empty() && previous_.size == f.raw.size && previous_.type() == f.raw.type() &&
-                       cv::norm(previous_, f.raw, cv::NORM_INF) == 0.0;
-    f.raw.copyTo(previous_);
-    if (stale) {
-      last_error_ = source_ + ": stale frame: read " + std::to_string(read_) +
-                    " is bitwise the one before it (a frozen camera re-delivers its last buffer)";
-      return Status::device_error;
-    }
   }
   const Status s = opt_.input == FrameInput::raw ? pre_.processRaw(f.raw, f.image) : pre_.fromProcessed(f.raw, f.image);
   if (s != Status::ok) {

@@ -36,10 +36,13 @@ struct CameraOptions {
   /// ("/dev/video…") or a stream URL ("…://…"), or when this is set; otherwise a failed
   /// read is the end of the file/sequence (end_of_stream).
   bool force_live = false;
-  /// A frame bitwise equal to the one read before it is stale and refused (device_error, not
-  /// delivered): a live TacTip image always changes by its sensor noise, and a frozen camera
-  /// or driver re-delivers its last buffer. The loop then sends no command from it, and the
-  /// robot's watchdog stops the arm if no fresh frame follows (docs/hardware.md).
+  /// A frame bitwise equal to the one read before it is stale and never delivered: a live
+  /// TacTip image always changes by its sensor noise, and a frozen camera or driver
+  /// re-delivers its last buffer. A live source counts it as a failed read and reads again
+  /// (device_error after max_consecutive_failures in a row); a file or sequence returns
+  /// device_error for it and goes on with the next frame at the next call. Meanwhile the loop
+  /// sends no command, and the robot's watchdog stops the arm if no fresh frame follows
+  /// (docs/hardware.md).
   bool refuse_stale = true;
 };
 
