@@ -22,10 +22,10 @@ if [[ "${LIESERVO_REPORT_SKIP_BUILD:-0}" != 1 ]]; then
 fi
 "$build/benchmarks/lieservo_speed_error_report" --csv "$tmp/report.csv"
 "$py" "$here/plot_report.py" "$tmp/report.csv" "$tmp/table.md" "$root/docs/performance_pareto.png"
-: > "$tmp/steps.csv"
-[[ "${LIESERVO_REPORT_SKIP_STEPS:-0}" == 1 ]] || "$build/benchmarks/lieservo_bench" --benchmark_filter='BM_(FilterStep|ServoStep|PushingStep|Cycle)|BM_exp<SE3<double>>$' \
+: > "$tmp/steps.json"
+[[ "${LIESERVO_REPORT_SKIP_STEPS:-0}" == 1 ]] || "$build/benchmarks/lieservo_bench" --benchmark_filter='BM_(FilterStep|FilterIterations|ServoStep|PushingStep|Cycle)|BM_exp<SE3<double>>$' \
   --benchmark_repetitions=9 --benchmark_report_aggregates_only=true --benchmark_min_time=0.2 \
-  --benchmark_format=csv 2>/dev/null > "$tmp/steps.csv" || true
+  --benchmark_format=json 2>/dev/null > "$tmp/steps.json" || true
 "$build/benchmarks/lieservo_speed_error_report" --dump "$tmp/cases.csv"
 "$py" "$here/numpy_baseline.py" --check "$tmp/cases.csv" --bench > "$tmp/numpy.txt"
 
@@ -39,19 +39,25 @@ fi
   flags=$(sed -n 's/^CMAKE_CXX_FLAGS_RELEASE:[A-Z]*=//p' "$build/CMakeCache.txt")
   echo "Compiler: $("$cxx" --version | head -1); flags: \`$flags\` (CMake Release), Eigen 3.4."
   echo
-  if [[ -s "$tmp/steps.csv" ]]; then
+  if [[ -s "$tmp/steps.json" ]]; then
   echo "#### Filter, controller and cycle steps (Google Benchmark, 9 repetitions, median)"
   echo
-  echo "| benchmark | wall-clock median (ns) | CPU-time median (ns) |"
-  echo "|---|---:|---:|"
-  "$py" - "$tmp/steps.csv" <<'PY'
-import csv, sys
-lines = open(sys.argv[1]).read().splitlines()
-start = next((i for i, l in enumerate(lines) if l.startswith("name,")), None)
-for r in (csv.DictReader(lines[start:]) if start is not None else []):
-    if r["name"].endswith("_median"):
-        name = r["name"][:-len("_median")].replace("lieservo::", "")
-        print(f"| `{name}` | {float(r['real_time']):.0f} | {float(r['cpu_time']):.0f} |")
+  echo "\`BM_FilterIterations/N\`: the filter step with N fusion iterations; \`BM_FilterStepConverged\`: with"
+  echo "the converged rule (\`FusionOptions::converged()\`); \"in exps\": the wall-clock median over"
+  echo "\`BM_exp<SE3<double>>\`'s in the same run."
+  echo
+  echo "| benchmark | wall-clock median (ns) | CPU-time median (ns) | in exps |"
+  echo "|---|---:|---:|---:|"
+  "$py" - "$tmp/steps.json" <<'PY'
+import json, sys
+rows = [r for r in json.load(open(sys.argv[1]))["benchmarks"] if r.get("aggregate_name") == "median"]
+exp = next((r["real_time"] for r in rows if r["run_name"] == "BM_exp<SE3<double>>"), None)
+for r in rows:
+    name = f"`{r['run_name'].replace('lieservo::', '')}`"
+    if "iterations" in r and r["run_name"].startswith("BM_FilterStepConverged"):
+        name += f" ({r['iterations']:.2f} iterations on average)"
+    t = r["real_time"]
+    print(f"| {name} | {t:.0f} | {r['cpu_time']:.0f} | {t / exp:.0f} |" if exp else f"| {name} | {t:.0f} | {r['cpu_time']:.0f} | |")
 PY
   fi
   echo
@@ -61,15 +67,14 @@ PY
   cat "$tmp/numpy.txt"
   echo '```'
   echo
-  "$py" - "$tmp/steps.csv" "$tmp/numpy.txt" "$tmp/report.csv" <<'PY'
-import csv, sys
+  "$py" - "$tmp/steps.json" "$tmp/numpy.txt" "$tmp/report.csv" <<'PY'
+import csv, json, os, sys
 steps, numpy_txt, report = sys.argv[1:4]
-lines = open(steps).read().splitlines()
-start = next((i for i, l in enumerate(lines) if l.startswith("name,")), None)
-cpp_filter = None
-for r in (csv.DictReader(lines[start:]) if start is not None else []):
-    if r["name"] == "BM_FilterStep<lieservo::SE3<double>, lieservo::PaperJacobian>_median":
-        cpp_filter = float(r["real_time"])
+medians = {}
+if os.path.getsize(steps):
+    medians = {r["run_name"]: r["real_time"] for r in json.load(open(steps))["benchmarks"]
+               if r.get("aggregate_name") == "median"}
+cpp_filter = medians.get("BM_FilterStep<lieservo::SE3<double>, lieservo::PaperJacobian>")
 cpp_fuse = None
 for r in csv.DictReader(open(report)):
     if (r["scalar"] == "double" and r["policy"] == "series" and r["order"] == "2" and r["iterations"] == "5"
@@ -87,10 +92,7 @@ if cpp_filter and "filter" in np_t:
     out.append(f"filter step {np_t['filter'] / 1e3:.0f} µs (NumPy) vs {cpp_filter / 1e3:.2f} µs (C++): **{np_t['filter'] / cpp_filter:.0f}×**")
 if out:
     print("Speed ratio NumPy / C++ (wall-clock medians, same machine, same load, double): " + "; ".join(out) + ".")
-cpp_exp = None
-for r in (csv.DictReader(lines[start:]) if start is not None else []):
-    if r["name"] == "BM_exp<SE3<double>>_median":
-        cpp_exp = float(r["real_time"])
+cpp_exp = medians.get("BM_exp<SE3<double>>")
 if cpp_filter and cpp_exp:
     print()
     print(f"Filter step against one SE(3) exp in the same run: {cpp_filter:.0f} ns / {cpp_exp:.1f} ns = "
