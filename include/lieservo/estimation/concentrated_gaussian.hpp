@@ -139,9 +139,9 @@ ConcentratedGaussian<G> compose(const ConcentratedGaussian<G>& a,
 /// (eq. 14, eq:se3_inverse_transform, inverting eq. 38 (eqn:glob_tangent_space_pdf)):
 ///     X̄ = exp(μ^),   Σ = J(μ) Σξ J(μ)ᵀ,
 /// J evaluated by the policy (DefaultJacobian, the paper's truncation, which the fusion and the
-/// filter also use by default; ClosedFormJacobian for the exact J). μ must lie in the principal branch of ln, rotation angle |φ| ≤ π: beyond it
-/// the same X̄ has a shorter μ, and J(μ) tends to singular at 2π (condition numbers ~1e67), so
-/// the covariance would be meaningless. Status: non_finite_input, invalid_argument (|φ| > π),
+/// filter also use by default; ClosedFormJacobian for the exact J). μ must lie in the principal
+/// branch of ln, rotation angle |φ| ≤ π: beyond it the same X̄ has a shorter μ, and J(μ) tends
+/// to singular at 2π (condition numbers ~1e67), so the covariance would be meaningless. Status: non_finite_input, invalid_argument (|φ| > π),
 /// not_spd (Σξ), numerical_failure (a non-finite result).
 template <class Policy = DefaultJacobian, class G>
 Status fromTangentCovariance(const typename G::Tangent& mu, const typename G::Jacobian& Sigma_xi,
