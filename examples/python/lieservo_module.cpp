@@ -156,8 +156,8 @@ py::class_<G> bindGroup(py::module_& m, const char* name, const char* doc) {
   using Tangent = typename G::Tangent;
   using Matrix = typename G::Matrix;
   using Jacobian = typename G::Jacobian;
-  constexpr int D = G::DoF;
-  constexpr int N = static_cast<int>(Matrix::RowsAtCompileTime);
+  static constexpr int D = G::DoF;  // static: lambdas use them without capturing
+  static constexpr int N = static_cast<int>(Matrix::RowsAtCompileTime);
   py::class_<G> c(m, name, doc);
   c.def(py::init<>(), "The identity.")
       .def_static("identity", &G::identity)

@@ -10,8 +10,10 @@
 
 namespace lieservo {
 
+/// What every checked call returns: ok, or the reason it failed (each function says what it
+/// leaves unchanged; describe() gives a phrase).
 enum class Status : int {
-  ok = 0,
+  ok = 0,                ///< success
   non_finite_input,      ///< a NaN or infinity in an input
   not_orthonormal,       ///< a rotation block is not orthonormal (or det != +1)
   not_spd,               ///< a covariance/information matrix is not symmetric positive-definite

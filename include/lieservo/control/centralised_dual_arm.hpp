@@ -40,15 +40,19 @@
 namespace lieservo {
 
 template <class Scalar, class Filter = DiscriminativeBayesFilter<SE3<Scalar>>>
+/// Dual-arm pushing with a centralised follower feedforward (Section 3.3.4,
+/// sec:single_dual_arm_controllers): DualArmPushing plus the follower's v_push (and v_op) from
+/// both arms' poses and the leader's command (the header comment gives the law).
 class CentralisedDualArmPushing {
  public:
-  using Arms = DualArmPushing<Scalar, Filter>;
-  using Group = typename Arms::Group;
-  using Tangent = typename Arms::Tangent;
-  using ArmInput = typename Arms::ArmInput;
-  using ArmOutput = typename Arms::ArmOutput;
-  using Vec3 = Eigen::Matrix<Scalar, 3, 1>;
+  using Arms = DualArmPushing<Scalar, Filter>;  ///< the two controllers and filters it drives
+  using Group = typename Arms::Group;  ///< SE(3)
+  using Tangent = typename Arms::Tangent;  ///< a twist [v; ω]
+  using ArmInput = typename Arms::ArmInput;  ///< one arm's measurements for a cycle
+  using ArmOutput = typename Arms::ArmOutput;  ///< one arm's result for a cycle
+  using Vec3 = Eigen::Matrix<Scalar, 3, 1>;  ///< 3-vector
 
+  /// The arms' options and the opposition term's gain and clip.
   struct Options {
     typename Arms::Options arms{};              ///< the leader's and the follower's controllers
     /// k_op (units/s per unit misalignment ≈ per rad). 0 by default: a gel that sticks holds the
@@ -59,6 +63,7 @@ class CentralisedDualArmPushing {
   };
 
   CentralisedDualArmPushing() = default;
+  /// Configures with `options` (configurationStatus() keeps the result), with the arms' filters.
   CentralisedDualArmPushing(const Options& options, const Filter& leader_filter, const Filter& follower_filter)
       : arms_(options.arms, leader_filter, follower_filter) {
     config_status_ = configure(options);
@@ -123,14 +128,14 @@ class CentralisedDualArmPushing {
     feedforward_.setZero();
   }
 
-  bool terminated() const noexcept { return arms_.terminated(); }
+  bool terminated() const noexcept { return arms_.terminated(); }  ///< whether the leader has reached the target (latched)
   /// The centralised part of the follower's last twist, u_ff, in its sensor frame.
   const Tangent& followerFeedforward() const noexcept { return feedforward_; }
-  const Arms& arms() const noexcept { return arms_; }
-  const typename Arms::Leader& leader() const noexcept { return arms_.leader(); }
-  const typename Arms::Follower& follower() const noexcept { return arms_.follower(); }
-  const Options& options() const noexcept { return options_; }
-  Status configurationStatus() const noexcept { return config_status_; }
+  const Arms& arms() const noexcept { return arms_; }  ///< the decentralised pair it extends
+  const typename Arms::Leader& leader() const noexcept { return arms_.leader(); }  ///< the leader's controller
+  const typename Arms::Follower& follower() const noexcept { return arms_.follower(); }  ///< the follower's controller
+  const Options& options() const noexcept { return options_; }  ///< the options in force
+  Status configurationStatus() const noexcept { return config_status_; }  ///< ok, or why the last configure() refused (step() returns it)
 
  private:
   Arms arms_{};

@@ -37,15 +37,16 @@ namespace lieservo {
 template <class Scalar, class Filter = DiscriminativeBayesFilter<SE3<Scalar>>>
 class DualArmPushing {
  public:
-  using Group = SE3<Scalar>;
-  using Tangent = typename Group::Tangent;
-  using Observation = ConcentratedGaussian<Group>;
-  using Leader = PushingController<Scalar>;
-  using Follower = TactileServoController<Group>;
+  using Group = SE3<Scalar>;  ///< poses of sensors, features and targets
+  using Tangent = typename Group::Tangent;  ///< a twist [v; ω]
+  using Observation = ConcentratedGaussian<Group>;  ///< a GDN estimate with covariance
+  using Leader = PushingController<Scalar>;  ///< the pusher's controller
+  using Follower = TactileServoController<Group>;  ///< the stabiliser's controller
 
+  /// Both arms' controller options.
   struct Options {
-    typename Leader::Options leader{};
-    typename Follower::Options follower{};
+    typename Leader::Options leader{};  ///< the pushing controller (leader)
+    typename Follower::Options follower{};  ///< the stabilising servo (follower)
   };
 
   /// One arm's measurements for a control cycle.
@@ -62,6 +63,7 @@ class DualArmPushing {
   };
 
   DualArmPushing() = default;
+  /// Configures with `options` (configurationStatus() keeps the result), with the arms' filters.
   DualArmPushing(const Options& options, const Filter& leader_filter, const Filter& follower_filter)
       : leader_filter_(leader_filter), follower_filter_(follower_filter) {
     config_status_ = configure(options);
@@ -151,14 +153,14 @@ class DualArmPushing {
     leader_filter_.reset();
     follower_filter_.reset();
   }
-  bool terminated() const noexcept { return leader_.terminated(); }
-  const Leader& leader() const noexcept { return leader_; }
-  const Follower& follower() const noexcept { return follower_; }
-  Leader& leader() noexcept { return leader_; }
-  Follower& follower() noexcept { return follower_; }
-  const Filter& leaderFilter() const noexcept { return leader_filter_; }
-  const Filter& followerFilter() const noexcept { return follower_filter_; }
-  Status configurationStatus() const noexcept { return config_status_; }
+  bool terminated() const noexcept { return leader_.terminated(); }  ///< whether the leader has reached the target (latched)
+  const Leader& leader() const noexcept { return leader_; }  ///< the leader's controller
+  const Follower& follower() const noexcept { return follower_; }  ///< the follower's controller
+  Leader& leader() noexcept { return leader_; }  ///< the leader's controller, to set its target
+  Follower& follower() noexcept { return follower_; }  ///< the follower's controller
+  const Filter& leaderFilter() const noexcept { return leader_filter_; }  ///< the leader's filter
+  const Filter& followerFilter() const noexcept { return follower_filter_; }  ///< the follower's filter
+  Status configurationStatus() const noexcept { return config_status_; }  ///< ok, or why the last configure() refused (step() returns it)
 
  private:
   static Status filterStep(Filter& filter, const ArmInput& in, ArmOutput& out) noexcept {

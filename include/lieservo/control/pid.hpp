@@ -43,11 +43,13 @@ class MimoPid {
   static_assert(N > 0, "MimoPid needs a fixed, positive number of channels");
 
  public:
-  using Vector = Eigen::Matrix<Scalar, N, 1>;
-  using Matrix = Eigen::Matrix<Scalar, N, N>;
+  using Vector = Eigen::Matrix<Scalar, N, 1>;  ///< one value per channel
+  using Matrix = Eigen::Matrix<Scalar, N, N>;  ///< a gain matrix
 
+  /// +∞: the open end of a clip range.
   static constexpr Scalar infinity() noexcept { return std::numeric_limits<Scalar>::infinity(); }
 
+  /// Gains, clip ranges and error smoothing; checked by validate().
   struct Options {
     Matrix kp = Matrix::Zero();  ///< proportional gain, 1/s for a velocity output (u per e)
     Matrix ki = Matrix::Zero();  ///< integral gain, 1/s² (u per ∫e dt)
@@ -86,10 +88,10 @@ class MimoPid {
 
   /// The four contributions of the last successful step (before output clipping).
   struct Terms {
-    Vector feedforward = Vector::Zero();
-    Vector proportional = Vector::Zero();
-    Vector integral = Vector::Zero();
-    Vector derivative = Vector::Zero();
+    Vector feedforward = Vector::Zero();  ///< v_k
+    Vector proportional = Vector::Zero();  ///< K_p e_k
+    Vector integral = Vector::Zero();  ///< K_i ∫e dt (clipped integral)
+    Vector derivative = Vector::Zero();  ///< K_d dē/dt (smoothed error)
     Vector unclipped = Vector::Zero();  ///< sum of the four
     Vector output = Vector::Zero();     ///< after output clipping
   };
@@ -214,14 +216,14 @@ class MimoPid {
                : options_.smoothing;
   }
 
-  const Options& options() const noexcept { return options_; }
-  Status configurationStatus() const noexcept { return config_status_; }
+  const Options& options() const noexcept { return options_; }  ///< the options in force
+  Status configurationStatus() const noexcept { return config_status_; }  ///< ok, or why the last configure() refused (step() returns it)
   const Vector& integral() const noexcept { return integral_; }       ///< clipped ∫e dt
   const Vector& smoothedError() const noexcept { return smoothed_; }  ///< ē_k
   const Vector& derivative() const noexcept { return derivative_; }   ///< (ē_k − ē_{k−1})/dt
-  const Terms& lastTerms() const noexcept { return terms_; }
-  bool started() const noexcept { return started_; }
-  long steps() const noexcept { return steps_; }
+  const Terms& lastTerms() const noexcept { return terms_; }  ///< the contributions of the last successful step
+  bool started() const noexcept { return started_; }  ///< whether a step has run since construction or reset()
+  long steps() const noexcept { return steps_; }  ///< successful steps since construction or reset()
 
  private:
   Options options_{};
@@ -260,22 +262,25 @@ class SisoPid {
   using Impl = MimoPid<Scalar, 1>;
 
  public:
+  /// MimoPid::Options for one channel, with scalars.
   struct Options {
     Scalar kp = Scalar(0);  ///< 1/s for a rate output
     Scalar ki = Scalar(0);  ///< 1/s²
     Scalar kd = Scalar(0);  ///< dimensionless
-    Scalar integral_min = -Impl::infinity();
-    Scalar integral_max = Impl::infinity();
-    Scalar output_min = -Impl::infinity();
-    Scalar output_max = Impl::infinity();
+    Scalar integral_min = -Impl::infinity();  ///< lower clip of ∫e dt
+    Scalar integral_max = Impl::infinity();  ///< upper clip of ∫e dt
+    Scalar output_min = -Impl::infinity();  ///< lower clip of u
+    Scalar output_max = Impl::infinity();  ///< upper clip of u
     Scalar smoothing = Scalar(0.5);             ///< per-step α ∈ (0, 1]
     Scalar smoothing_time_constant = Scalar(0); ///< τ (s); > 0 overrides `smoothing`
   };
-  using Terms = typename Impl::Terms;
+  using Terms = typename Impl::Terms;  ///< the contributions of a step (one channel)
 
-  SisoPid() = default;
+  SisoPid() = default;  ///< zero gains, no clipping, α = 0.5
+  /// Configures with `options` (as MimoPid's constructor).
   explicit SisoPid(const Options& options) { config_status_ = configure(options); }
 
+  /// The same options for MimoPid with N = 1.
   static typename Impl::Options toMimo(const Options& o) {
     typename Impl::Options m;
     m.kp(0, 0) = o.kp;
@@ -289,8 +294,10 @@ class SisoPid {
     m.smoothing_time_constant = o.smoothing_time_constant;
     return m;
   }
+  /// As MimoPid::validate.
   static Status validate(const Options& o) noexcept { return Impl::validate(toMimo(o)); }
 
+  /// As MimoPid::configure: invalid options change nothing.
   Status configure(const Options& options) noexcept {
     const Status s = pid_.configure(toMimo(options));
     if (s != Status::ok) return s;
@@ -311,17 +318,17 @@ class SisoPid {
     return s;
   }
 
-  void reset() noexcept { pid_.reset(); }
+  void reset() noexcept { pid_.reset(); }  ///< as MimoPid::reset
 
-  const Options& options() const noexcept { return options_; }
-  Status configurationStatus() const noexcept { return config_status_; }
-  Scalar integral() const noexcept { return pid_.integral()[0]; }
-  Scalar smoothedError() const noexcept { return pid_.smoothedError()[0]; }
-  Scalar derivative() const noexcept { return pid_.derivative()[0]; }
-  const Terms& lastTerms() const noexcept { return pid_.lastTerms(); }
-  bool started() const noexcept { return pid_.started(); }
-  long steps() const noexcept { return pid_.steps(); }
-  Scalar alpha(Scalar dt) const noexcept { return pid_.alpha(dt); }
+  const Options& options() const noexcept { return options_; }  ///< the options in force
+  Status configurationStatus() const noexcept { return config_status_; }  ///< as MimoPid::configurationStatus
+  Scalar integral() const noexcept { return pid_.integral()[0]; }  ///< clipped ∫e dt
+  Scalar smoothedError() const noexcept { return pid_.smoothedError()[0]; }  ///< ē_k
+  Scalar derivative() const noexcept { return pid_.derivative()[0]; }  ///< (ē_k − ē_{k−1})/dt
+  const Terms& lastTerms() const noexcept { return pid_.lastTerms(); }  ///< the contributions of the last successful step
+  bool started() const noexcept { return pid_.started(); }  ///< whether a step has run since construction or reset()
+  long steps() const noexcept { return pid_.steps(); }  ///< successful steps since construction or reset()
+  Scalar alpha(Scalar dt) const noexcept { return pid_.alpha(dt); }  ///< the smoothing weight for a step of length dt
 
  private:
   Impl pid_{};

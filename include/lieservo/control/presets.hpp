@@ -44,7 +44,7 @@ inline constexpr double kNoClip = std::numeric_limits<double>::infinity();
 
 /// A MIMO (6-channel, [v; ω]) controller table in the paper's units, per control step.
 struct MimoTable {
-  const char* label;             ///< the table's \label{} in the paper
+  const char* label;             ///< the table's LaTeX label in the paper
   double kp[6];                  ///< 1/s
   double ki[6];                  ///< per step (u per Σe)
   double kd[6];                  ///< per step (u per Δē)
@@ -55,7 +55,7 @@ struct MimoTable {
 
 /// The SISO target-alignment table (PID 2) in the paper's units, per control step.
 struct SisoTable {
-  const char* label;
+  const char* label;         ///< the table's LaTeX label in the paper
   double kp;                 ///< mm/s per deg
   double ki_single_arm;      ///< per step
   double ki_dual_arm;        ///< per step
@@ -113,16 +113,16 @@ inline constexpr MimoTable kStabiliser{
 
 /// Section 5.7.2 (sec:dual_arm_tall_object_pushing): modified reference poses for tall objects (the first
 /// component moved by ±0.5 mm): leader (pusher) and follower (stabiliser).
-inline constexpr double kTallObjectLeaderReference[6] = {0.5, 0, 0, 0, 0, 0};
-inline constexpr double kTallObjectFollowerReference[6] = {-0.5, 0, 3, 0, 0, 0};
+inline constexpr double kTallObjectLeaderReference[6] = {0.5, 0, 0, 0, 0, 0};     ///< leader (pusher)
+inline constexpr double kTallObjectFollowerReference[6] = {-0.5, 0, 3, 0, 0, 0};  ///< follower (stabiliser)
 
 /// Surface-following speed (mm/s) of Section 5.5.1 (sec:surface_follow_ramp) / Section 5.5.2 (sec:surface_follow_hemisphere).
 inline constexpr double kSurfaceFollowingSpeed = 10;
 /// The paper's EWMA decay coefficient (Section 3.3.1, sec:tangent_space_control), per control step.
 inline constexpr double kSmoothing = 0.5;
 /// Alignment cut-off ρ* (mm) and termination radius (mm) of Section 3.3.3 (sec:pushing_controller).
-inline constexpr double kAlignmentCutoff = 120;
-inline constexpr double kTerminationRadius = 20;
+inline constexpr double kAlignmentCutoff = 120;   ///< ρ* (mm)
+inline constexpr double kTerminationRadius = 20;  ///< tip radius (mm)
 
 }  // namespace paper
 

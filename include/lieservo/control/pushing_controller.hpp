@@ -53,24 +53,28 @@ enum class TerminationDistance {
 };
 
 template <class Scalar>
+/// The tactile pushing controller (Section 3.3.3, sec:pushing_controller): tactile servoing
+/// plus target alignment by a SISO PID on the bearing (eqs. 21-22); the header comment gives the law.
 class PushingController {
  public:
-  using Group = SE3<Scalar>;
-  using Servo = TactileServoController<Group>;
-  using Tangent = typename Group::Tangent;  // [v; ω]
-  using Alignment = SisoPid<Scalar>;
+  using Group = SE3<Scalar>;  ///< poses
+  using Servo = TactileServoController<Group>;  ///< PID 1: the tactile servo
+  using Tangent = typename Group::Tangent;  ///< a twist [v; ω]
+  using Alignment = SisoPid<Scalar>;  ///< PID 2: the bearing alignment
 
+  /// Both PIDs, the bearing reference, the alignment cut-off, the termination test and the target.
   struct Options {
     typename Servo::Options servo{};          ///< PID 1 (MIMO), reference pose, feedforward
     typename Alignment::Options alignment{};  ///< PID 2 (SISO): bearing error (rad) → u_y
     Scalar reference_bearing = Scalar(0);     ///< θ_s'r (rad); paper: 0
     Scalar alignment_cutoff = Scalar(120);    ///< ρ*: alignment zeroed when r < ρ* (paper 120 mm)
     Scalar termination_radius = Scalar(20);   ///< stop when d < radius (paper: tip radius 20 mm)
-    TerminationDistance termination_distance = TerminationDistance::sensor_yz_plane;
+    TerminationDistance termination_distance = TerminationDistance::sensor_yz_plane;  ///< how d is measured
     Group target = Group::identity();         ///< X_wt: target pose in the work frame
   };
 
   PushingController() = default;
+  /// Configures with `options` (configurationStatus() keeps the result).
   explicit PushingController(const Options& options) { config_status_ = configure(options); }
 
   /// ok, or the first reason: the servo's and the alignment PID's validate(), non_finite_input
@@ -207,7 +211,7 @@ class PushingController {
     return a <= -pi ? a + Scalar(2) * pi : a;
   }
 
-  bool terminated() const noexcept { return terminated_; }
+  bool terminated() const noexcept { return terminated_; }  ///< whether d < termination_radius was reached (latched until reset() or setTarget())
   /// θ_s' (rad) of the last active step.
   Scalar bearing() const noexcept { return bearing_; }
   /// r_s' of the last active step (compared with ρ*).
@@ -222,10 +226,10 @@ class PushingController {
   const Tangent& servoVelocity() const noexcept { return servo_velocity_; }
   /// X_s't of the last active step.
   const Group& targetInReference() const noexcept { return target_in_reference_; }
-  const Servo& servo() const noexcept { return servo_; }
-  const Alignment& alignment() const noexcept { return alignment_; }
-  const Options& options() const noexcept { return options_; }
-  Status configurationStatus() const noexcept { return config_status_; }
+  const Servo& servo() const noexcept { return servo_; }  ///< PID 1
+  const Alignment& alignment() const noexcept { return alignment_; }  ///< PID 2
+  const Options& options() const noexcept { return options_; }  ///< the options in force
+  Status configurationStatus() const noexcept { return config_status_; }  ///< ok, or why the last configure() refused (step() returns it)
 
  private:
   Options options_{};

@@ -32,15 +32,18 @@
 namespace lieservo {
 
 template <class G>
+/// The tactile servoing controller (Section 3.3.2, sec:servoing_controller): a feedforward-
+/// feedback MIMO PID on the tangent-space servo error (eqs. 18-20); the header comment gives the law.
 class TactileServoController {
  public:
-  using Group = G;
-  using Scalar = typename G::Scalar;
-  static constexpr int DoF = G::DoF;
-  using Tangent = typename G::Tangent;
-  using Jacobian = typename G::Jacobian;
-  using Pid = MimoPid<Scalar, DoF>;
+  using Group = G;  ///< the pose group (SE3, SE2, SO3, SO2)
+  using Scalar = typename G::Scalar;  ///< float or double
+  static constexpr int DoF = G::DoF;  ///< channels of the PID
+  using Tangent = typename G::Tangent;  ///< a twist
+  using Jacobian = typename G::Jacobian;  ///< DoF × DoF
+  using Pid = MimoPid<Scalar, DoF>;  ///< the feedback PID
 
+  /// The PID, the reference pose and the feedforward twist.
   struct Options {
     typename Pid::Options pid{};       ///< MIMO PID on e (radians on rotational channels)
     G reference = G::identity();       ///< X_ref = X_fs': reference sensor pose in {f}
@@ -140,9 +143,9 @@ class TactileServoController {
   Jacobian referenceToSensorAdjoint() const noexcept { return error_pose_.Ad(); }
   /// v = Ad(X_ss') u_s'2 of the last successful step (feedforward in {s}).
   const Tangent& feedforwardInSensorFrame() const noexcept { return feedforward_sensor_; }
-  const Pid& pid() const noexcept { return pid_; }
-  const Options& options() const noexcept { return options_; }
-  Status configurationStatus() const noexcept { return config_status_; }
+  const Pid& pid() const noexcept { return pid_; }  ///< the feedback PID
+  const Options& options() const noexcept { return options_; }  ///< the options in force
+  Status configurationStatus() const noexcept { return config_status_; }  ///< ok, or why the last configure() refused (step() returns it)
 
  private:
   Options options_{};

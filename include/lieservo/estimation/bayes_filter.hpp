@@ -47,15 +47,19 @@ typename G::Jacobian paperProcessNoise() noexcept {
 }
 
 template <class G, class Policy = DefaultJacobian>
+/// The discriminative Bayes filter on a Lie group G (Algorithm 2, alg:se3_bayes_filter):
+/// predict with the sensor's own motion, correct by fusing the observation (Algorithm 3);
+/// the header comment gives the equations and the real-time contract.
 class DiscriminativeBayesFilter {
  public:
-  using Group = G;
-  using Scalar = typename G::Scalar;
-  using Tangent = typename G::Tangent;
-  using Jacobian = typename G::Jacobian;
-  using Gaussian = ConcentratedGaussian<G>;
-  static constexpr int DoF = G::DoF;
+  using Group = G;  ///< the state's group
+  using Scalar = typename G::Scalar;  ///< float or double
+  using Tangent = typename G::Tangent;  ///< a tangent vector of G
+  using Jacobian = typename G::Jacobian;  ///< a DoF × DoF matrix (covariances)
+  using Gaussian = ConcentratedGaussian<G>;  ///< observations, belief and filtered state
+  static constexpr int DoF = G::DoF;  ///< tangent dimension
 
+  /// Process noise, fusion and gating; checked by validate().
   struct Options {
     /// Σφ of the state dynamics (finite, symmetric, positive SEMI-definite; 0 allowed).
     Jacobian process_noise = paperProcessNoise<G>();
@@ -68,6 +72,7 @@ class DiscriminativeBayesFilter {
     Scalar gate_probability = Scalar(0.999);
   };
 
+  /// What the latest call did (updated on every call, failed ones included).
   struct Diagnostics {
     Status last_status = Status::not_initialised;  ///< Status of the latest call
     int iterations = 0;            ///< fusion iterations of the latest correction
@@ -113,7 +118,7 @@ class DiscriminativeBayesFilter {
     options_status_ = Status::ok;
     return Status::ok;
   }
-  const Options& options() const noexcept { return options_; }
+  const Options& options() const noexcept { return options_; }  ///< the options in force
   /// ok, or validate()'s Status for the invalid options the constructor was given.
   Status configurationStatus() const noexcept { return options_status_; }
 
@@ -185,8 +190,8 @@ class DiscriminativeBayesFilter {
   const Gaussian& filtered() const noexcept { return filtered_; }
   /// X_k^sens of the latest accepted step (or reset).
   const G& sensorPose() const noexcept { return sensor_pose_; }
-  const Diagnostics& diagnostics() const noexcept { return diag_; }
-  bool initialised() const noexcept { return initialised_; }
+  const Diagnostics& diagnostics() const noexcept { return diag_; }  ///< what the latest call did
+  bool initialised() const noexcept { return initialised_; }  ///< whether a first observation has initialised the state
   /// Back to the uninitialised state (options kept): the next step() initialises.
   void reset() noexcept {
     initialised_ = false;

@@ -27,18 +27,18 @@ namespace lieservo {
 /// A concentrated Gaussian on G: X = exp(ε^) mean, ε ~ N(0, covariance).
 template <class G>
 struct ConcentratedGaussian {
-  using Group = G;
-  using Scalar = typename G::Scalar;
-  using Tangent = typename G::Tangent;
-  using Jacobian = typename G::Jacobian;
-  static constexpr int DoF = G::DoF;
+  using Group = G;  ///< the group of the mean
+  using Scalar = typename G::Scalar;  ///< float or double
+  using Tangent = typename G::Tangent;  ///< a tangent vector (ε)
+  using Jacobian = typename G::Jacobian;  ///< DoF × DoF (the covariance)
+  static constexpr int DoF = G::DoF;  ///< tangent dimension
 
   G mean;               ///< deterministic mean X̄
   Jacobian covariance;  ///< covariance Σ of the left perturbation ε
 
   /// Identity mean, identity covariance.
   ConcentratedGaussian() noexcept : mean(), covariance(Jacobian::Identity()) {}
-  ConcentratedGaussian(const G& m, const Jacobian& c) noexcept : mean(m), covariance(c) {}
+  ConcentratedGaussian(const G& m, const Jacobian& c) noexcept : mean(m), covariance(c) {}  ///< mean m, covariance c, as given (validate() checks them)
 
   /// ok when the mean is a valid group element (finite, orthonormal rotation, det +1) and the
   /// covariance is finite, symmetric (relative tolerance sqrt(eps)) and positive-definite.
@@ -59,6 +59,7 @@ Status checkCovariance(const Mat& S) noexcept {
   return detail::checkSpd(S);
 }
 
+/// ConcentratedGaussian::validate() as a free function.
 template <class G>
 Status validate(const ConcentratedGaussian<G>& x) noexcept {
   const Status s = validateElement(x.mean);

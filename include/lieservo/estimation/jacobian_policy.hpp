@@ -23,14 +23,17 @@ struct ClosedFormJacobian {
   static constexpr int order = -1;  ///< -1: closed form (no truncation)
 
   template <class G>
+  /// J(ξ)⁻¹ in closed form.
   static typename G::Jacobian inverse(const typename G::Tangent& xi) noexcept {
     return G::leftJacobianInverse(xi);
   }
   template <class G>
+  /// J(ξ) in closed form.
   static typename G::Jacobian forward(const typename G::Tangent& xi) noexcept {
     return G::leftJacobian(xi);
   }
   template <class G>
+  /// ξ = ln(X)^∨, and J(ξ)⁻¹ into Jinv, sharing the trigonometric work.
   static typename G::Tangent logAndInverse(const G& X, typename G::Jacobian& Jinv) noexcept {
     return X.logAndLeftJacobianInverse(Jinv);
   }
@@ -46,13 +49,15 @@ struct ClosedFormJacobian {
 template <int N>
 struct SeriesJacobian {
   static_assert(N >= 0, "series order must be >= 0");
-  static constexpr int order = N;
+  static constexpr int order = N;  ///< N
 
   template <class G>
+  /// J(ξ)⁻¹ by the Bernoulli series of order N.
   static typename G::Jacobian inverse(const typename G::Tangent& xi) noexcept {
     return G::template leftJacobianInverseSeries<N>(xi);
   }
   template <class G>
+  /// J(ξ) by its series of order N (Horner).
   static typename G::Jacobian forward(const typename G::Tangent& xi) noexcept {
     using Jacobian = typename G::Jacobian;
     using Scalar = typename G::Scalar;
@@ -69,6 +74,7 @@ struct SeriesJacobian {
     return r;
   }
   template <class G>
+  /// ξ = ln(X)^∨ (closed form), and J(ξ)⁻¹ by the series into Jinv.
   static typename G::Tangent logAndInverse(const G& X, typename G::Jacobian& Jinv) noexcept {
     const typename G::Tangent xi = X.log();
     Jinv = inverse<G>(xi);

@@ -12,30 +12,38 @@
 namespace lieservo {
 
 template <typename Scalar_>
+/// SE(2): a planar rigid motion (rotation R, translation t). The tangent is ξ = [ρ; θ],
+/// translation first (docs/conventions.md); left perturbation X = exp(ε^) X̄.
 class SE2 {
  public:
-  using Scalar = Scalar_;
-  using Real = detail::RealOf<Scalar>;
-  static constexpr int DoF = 3;
-  static constexpr int Dim = 2;
-  using Tangent = Eigen::Matrix<Scalar, 3, 1>;
-  using Jacobian = Eigen::Matrix<Scalar, 3, 3>;
-  using Point = Eigen::Matrix<Scalar, 2, 1>;
-  using Matrix = Eigen::Matrix<Scalar, 3, 3>;
-  using Vector2 = Eigen::Matrix<Scalar, 2, 1>;
-  using Matrix2 = Eigen::Matrix<Scalar, 2, 2>;
-  using SO2Type = SO2<Scalar>;
+  using Scalar = Scalar_;  ///< float, double or long double
+  using Real = detail::RealOf<Scalar>;  ///< the real type behind Scalar
+  static constexpr int DoF = 3;  ///< tangent dimension
+  static constexpr int Dim = 2;  ///< dimension of the space it moves
+  using Tangent = Eigen::Matrix<Scalar, 3, 1>;  ///< ξ = [ρ; θ]
+  using Jacobian = Eigen::Matrix<Scalar, 3, 3>;  ///< DoF × DoF
+  using Point = Eigen::Matrix<Scalar, 2, 1>;  ///< a point of the plane
+  using Matrix = Eigen::Matrix<Scalar, 3, 3>;  ///< the homogeneous 3 × 3 matrix
+  using Vector2 = Eigen::Matrix<Scalar, 2, 1>;  ///< 2-vector
+  using Matrix2 = Eigen::Matrix<Scalar, 2, 2>;  ///< 2 × 2 matrix
+  using SO2Type = SO2<Scalar>;  ///< the rotation part's group
 
+  /// The identity.
   SE2() : R_(), t_(Vector2::Zero()) {}
+  /// From a rotation and a translation: p ↦ R p + t.
   SE2(const SO2Type& R, const Vector2& t) : R_(R), t_(t) {}
-  static SE2 identity() { return SE2(); }
+  static SE2 identity() { return SE2(); }  ///< the identity
 
+  /// Composition: (*this * o)(p) = *this(o(p)).
   SE2 operator*(const SE2& o) const { return SE2(R_ * o.R_, R_ * o.t_ + t_); }
+  /// *this = *this * o.
   SE2& operator*=(const SE2& o) {
     *this = *this * o;
     return *this;
   }
+  /// The moved point R p + t.
   Point operator*(const Point& p) const { return R_ * p + t_; }
+  /// The inverse motion (Rᵀ, −Rᵀ t).
   SE2 inverse() const {
     const SO2Type Ri = R_.inverse();
     return SE2(Ri, -(Ri * t_));
@@ -57,6 +65,7 @@ class SE2 {
     return xi;
   }
 
+  /// ξ^ = [[θ [[0, −1], [1, 0]], ρ], [0ᵀ, 0]].
   static Matrix hat(const Tangent& xi) {
     Matrix m;
     m << Scalar(0), -xi(2), xi(0),  //
@@ -64,6 +73,7 @@ class SE2 {
         Scalar(0), Scalar(0), Scalar(0);
     return m;
   }
+  /// The inverse of hat (θ from the antisymmetrised rotation block).
   static Tangent vee(const Matrix& m) { return Tangent(m(0, 2), m(1, 2), Scalar(Real(0.5)) * (m(1, 0) - m(0, 1))); }
 
   /// Ad(X) = [[R, (t_y, −t_x)ᵀ], [0, 1]] (the planar analogue of eq. 30 (eqn:se3_adjoint)).
@@ -99,17 +109,22 @@ class SE2 {
     return leftJacobianInverseWith(xi, t);
   }
   template <int N>
+  /// The Bernoulli series of J⁻¹ to order N (eq. 34, eqn:inv_jacobian_def).
   static Jacobian leftJacobianInverseSeries(const Tangent& xi) {
     return detail::inverseJacobianSeries<SE2, N>(xi);
   }
+  /// Right Jacobian: J_r(ξ) = J(−ξ).
   static Jacobian rightJacobian(const Tangent& xi) { return leftJacobian(-xi); }
+  /// J_r(ξ)⁻¹ = J(−ξ)⁻¹.
   static Jacobian rightJacobianInverse(const Tangent& xi) { return leftJacobianInverse(-xi); }
+  /// exp(ξ), and J(ξ) into J, sharing the trigonometric terms.
   static SE2 expAndLeftJacobian(const Tangent& xi, Jacobian& J) {
     const Scalar th = xi(2);
     const detail::AngleTerms<Scalar> t(th * th);
     J = leftJacobianWith(xi, t);
     return SE2(rotationWith(th, t), J.template topLeftCorner<2, 2>() * xi.template head<2>());
   }
+  /// log(), and J(ξ)⁻¹ of the result into Jinv, sharing the trigonometric terms.
   Tangent logAndLeftJacobianInverse(Jacobian& Jinv) const {
     const Scalar th = R_.angle();
     const detail::AngleTerms<Scalar> t(th * th);
@@ -119,14 +134,18 @@ class SE2 {
     Jinv = leftJacobianInverseWith(xi, t);
     return xi;
   }
+  /// ln(exp(ξ1^) exp(ξ2^))^∨ to first order in a small ξ1: J(ξ2)⁻¹ ξ1 + ξ2.
   static Tangent bchLeftSmall(const Tangent& xi1_small, const Tangent& xi2) {
     return leftJacobianInverse(xi2) * xi1_small + xi2;
   }
+  /// ln(exp(ξ1^) exp(ξ2^))^∨ to first order in a small ξ2: ξ1 + J(−ξ1)⁻¹ ξ2.
   static Tangent bchRightSmall(const Tangent& xi1, const Tangent& xi2_small) {
     return xi1 + leftJacobianInverse(-xi1) * xi2_small;
   }
+  /// The geodesic from *this (t = 0) to other (t = 1).
   SE2 interpolate(const SE2& other, Scalar t) const { return *this * exp(t * (inverse() * other).log()); }
 
+  /// The homogeneous matrix [[R, t], [0ᵀ, 1]].
   Matrix matrix() const {
     Matrix m = Matrix::Identity();
     m.template topLeftCorner<2, 2>() = R_.matrix();
@@ -135,13 +154,17 @@ class SE2 {
   }
   /// Read-only parts (as SE3's).
   const SO2Type& so2() const { return R_; }
-  Matrix2 rotationMatrix() const { return R_.matrix(); }
-  const Vector2& translation() const { return t_; }
+  Matrix2 rotationMatrix() const { return R_.matrix(); }  ///< R
+  const Vector2& translation() const { return t_; }  ///< t
 
+  /// From a homogeneous matrix as given: no check of its rotation block or bottom row.
   static SE2 fromMatrixUnchecked(const Matrix& m) {
     return SE2(SO2Type::fromMatrixUnchecked(m.template topLeftCorner<2, 2>()), m.template topRightCorner<2, 1>());
   }
+  /// Checked, at SO2::defaultTolerance(); see the overload with a tolerance.
   static Status fromMatrix(const Matrix& m, SE2& out) noexcept { return fromMatrix(m, out, SO2Type::defaultTolerance()); }
+  /// Checked: non_finite_input; the rotation block as SO2::fromMatrix; invalid_argument unless
+  /// the bottom row is (0, 0, 1) within tol. `out` is written only when ok.
   static Status fromMatrix(const Matrix& m, SE2& out, Scalar tol) noexcept {
     if (!m.allFinite()) return Status::non_finite_input;
     SO2Type R;
@@ -151,6 +174,8 @@ class SE2 {
     out = SE2(R, m.template topRightCorner<2, 1>());
     return Status::ok;
   }
+  /// The nearest rotation (SO2::fromMatrixProjected) with m's translation; the bottom row
+  /// checked as in fromMatrix. `out` is written only when ok.
   static Status fromMatrixProjected(const Matrix& m, SE2& out) noexcept {
     if (!m.allFinite()) return Status::non_finite_input;
     SO2Type R;
@@ -160,13 +185,17 @@ class SE2 {
     out = SE2(R, m.template topRightCorner<2, 1>());
     return Status::ok;
   }
+  /// Re-normalises the rotation (after long chains of compositions).
   void normalize() noexcept { R_.normalize(); }
-  bool allFinite() const { return R_.allFinite() && t_.allFinite(); }
+  bool allFinite() const { return R_.allFinite() && t_.allFinite(); }  ///< whether every stored number is finite
+  /// Whether the rotations agree within tol (SO2::isApprox) and the translations within
+  /// tol · (1 + the larger ‖t‖).
   bool isApprox(const SE2& o, Scalar tol) const {
     using std::max;
     const Scalar scale = Scalar(1) + max(t_.norm(), o.t_.norm());
     return R_.isApprox(o.R_, tol) && (t_ - o.t_).norm() <= tol * scale;
   }
+  /// The same motion in another scalar type.
   template <class NewScalar>
   SE2<NewScalar> cast() const {
     return SE2<NewScalar>(R_.template cast<NewScalar>(), t_.template cast<NewScalar>());
@@ -225,7 +254,7 @@ class SE2 {
   Vector2 t_;
 };
 
-using SE2d = SE2<double>;
-using SE2f = SE2<float>;
+using SE2d = SE2<double>;  ///< SE(2) in double
+using SE2f = SE2<float>;   ///< SE(2) in float
 
 }  // namespace lieservo

@@ -19,27 +19,31 @@ namespace lieservo {
 // assignments, not the comma initializer, which trips GCC 12's -Warray-bounds (a false
 // positive in Eigen's packet path for float 3-vectors at -O3).
 template <typename Scalar_>
+/// SE(3): a rigid motion X = [[C, r], [0ᵀ, 1]] (eq. 26, eqn:se3_matrix_def). The tangent is
+/// ξ = [ρ; φ], translation first; left perturbation X = exp(ε^) X̄ (docs/conventions.md).
 class SE3 {
  public:
-  using Scalar = Scalar_;
-  using Real = detail::RealOf<Scalar>;
-  static constexpr int DoF = 6;
-  static constexpr int Dim = 3;
-  using Tangent = Eigen::Matrix<Scalar, 6, 1>;
-  using Jacobian = Eigen::Matrix<Scalar, 6, 6>;
-  using Point = Eigen::Matrix<Scalar, 3, 1>;
-  using Matrix = Eigen::Matrix<Scalar, 4, 4>;
-  using Vector3 = Eigen::Matrix<Scalar, 3, 1>;
-  using Vector6 = Eigen::Matrix<Scalar, 6, 1>;
-  using Matrix3 = Eigen::Matrix<Scalar, 3, 3>;
-  using Matrix4 = Eigen::Matrix<Scalar, 4, 4>;
-  using Isometry = Eigen::Transform<Scalar, 3, Eigen::Isometry>;
-  using Quaternion = Eigen::Quaternion<Scalar>;
-  using SO3Type = SO3<Scalar>;
+  using Scalar = Scalar_;  ///< float, double or long double
+  using Real = detail::RealOf<Scalar>;  ///< the real type behind Scalar
+  static constexpr int DoF = 6;  ///< tangent dimension
+  static constexpr int Dim = 3;  ///< dimension of the space it moves
+  using Tangent = Eigen::Matrix<Scalar, 6, 1>;  ///< ξ = [ρ; φ]
+  using Jacobian = Eigen::Matrix<Scalar, 6, 6>;  ///< DoF × DoF
+  using Point = Eigen::Matrix<Scalar, 3, 1>;  ///< a point of space
+  using Matrix = Eigen::Matrix<Scalar, 4, 4>;  ///< the homogeneous 4 × 4 matrix
+  using Vector3 = Eigen::Matrix<Scalar, 3, 1>;  ///< 3-vector
+  using Vector6 = Eigen::Matrix<Scalar, 6, 1>;  ///< 6-vector
+  using Matrix3 = Eigen::Matrix<Scalar, 3, 3>;  ///< 3 × 3 matrix
+  using Matrix4 = Eigen::Matrix<Scalar, 4, 4>;  ///< 4 × 4 matrix
+  using Isometry = Eigen::Transform<Scalar, 3, Eigen::Isometry>;  ///< Eigen's rigid transform
+  using Quaternion = Eigen::Quaternion<Scalar>;  ///< Eigen's quaternion
+  using SO3Type = SO3<Scalar>;  ///< the rotation part's group
 
+  /// The identity.
   SE3() : C_(), r_(Vector3::Zero()) {}
+  /// From a rotation and a translation: p ↦ C p + r.
   SE3(const SO3Type& C, const Vector3& r) : C_(C), r_(r) {}
-  static SE3 identity() { return SE3(); }
+  static SE3 identity() { return SE3(); }  ///< the identity
 
   // ---- group operations -----------------------------------------------------------------
   /// Written in place from the operands (see SO3::operator*: no temporaries read back).
@@ -50,8 +54,8 @@ class SE3 {
     x.r_.noalias() += C_.rotationMatrix() * o.r_;
     return x;
   }
-  SE3& operator*=(const SE3& o) { return *this = *this * o; }
-  Point operator*(const Point& p) const { return C_ * p + r_; }
+  SE3& operator*=(const SE3& o) { return *this = *this * o; }  ///< *this = *this * o
+  Point operator*(const Point& p) const { return C_ * p + r_; }  ///< the moved point C p + r
   /// [Cᵀ, −Cᵀr], both read from C (not from the stored transpose: see operator*).
   SE3 inverse() const {
     SE3 x;
@@ -84,6 +88,7 @@ class SE3 {
     m.template topRightCorner<3, 1>() = xi.template head<3>();
     return m;
   }
+  /// The inverse of hat: [ρ; φ] from the translation column and the rotation block.
   static Tangent vee(const Matrix& m) {
     Tangent xi;
     xi.template head<3>() = m.template topRightCorner<3, 1>();
@@ -189,15 +194,19 @@ class SE3 {
     }
     return Jinv;
   }
+  /// Right Jacobian: Jr(ξ) = J(−ξ).
   static Jacobian rightJacobian(const Tangent& xi) { return leftJacobian(-xi); }
+  /// Jr(ξ)⁻¹ = J(−ξ)⁻¹.
   static Jacobian rightJacobianInverse(const Tangent& xi) { return leftJacobianInverse(-xi); }
 
+  /// exp(ξ), and J(ξ) into J, sharing the trigonometric work.
   static SE3 expAndLeftJacobian(const Tangent& xi, Jacobian& J) {
     const Vector3 rho = xi.template head<3>(), phi = xi.template tail<3>();
     const detail::AngleTerms<Scalar> t(phi.squaredNorm());
     J = leftJacobianWith(rho, phi, t);
     return SE3(SO3Type::expWith(phi, t), J.template topLeftCorner<3, 3>() * rho);
   }
+  /// log(), and J(ξ)⁻¹ of the result into Jinv, sharing the trigonometric work.
   Tangent logAndLeftJacobianInverse(Jacobian& Jinv) const {
     detail::AngleTerms<Scalar> t(Scalar(0));
     const Vector3 phi = C_.logWithTerms(t);  // log and J⁻¹ share the trigonometric work
@@ -214,16 +223,20 @@ class SE3 {
   }
 
   // ---- BCH (eq. 32, eqn:bch_approx) ----------------------------------------------------------------
+  /// ln(exp(ξ1^) exp(ξ2^))^∨ to first order in a small ξ1: J(ξ2)⁻¹ ξ1 + ξ2 (eq. 32, eqn:bch_approx).
   static Tangent bchLeftSmall(const Tangent& xi1_small, const Tangent& xi2) {
     return leftJacobianInverse(xi2) * xi1_small + xi2;
   }
+  /// ln(exp(ξ1^) exp(ξ2^))^∨ to first order in a small ξ2: ξ1 + J(−ξ1)⁻¹ ξ2.
   static Tangent bchRightSmall(const Tangent& xi1, const Tangent& xi2_small) {
     return xi1 + leftJacobianInverse(-xi1) * xi2_small;
   }
 
+  /// The geodesic from *this (t = 0) to other (t = 1): *this · exp(t · log(this⁻¹ · other)).
   SE3 interpolate(const SE3& other, Scalar t) const { return *this * exp(t * (inverse() * other).log()); }
 
   // ---- matrices and construction -----------------------------------------------------------
+  /// The homogeneous matrix [[C, r], [0ᵀ, 1]].
   Matrix matrix() const {
     Matrix m = Matrix::Identity();
     m.template topLeftCorner<3, 3>() = C_.rotationMatrix();
@@ -233,8 +246,8 @@ class SE3 {
   /// Read-only parts: an element changes only through the group operations and the checked
   /// or explicitly unchecked constructors, so a valid element stays valid.
   const SO3Type& so3() const { return C_; }
-  const Matrix3& rotationMatrix() const { return C_.rotationMatrix(); }
-  const Vector3& translation() const { return r_; }
+  const Matrix3& rotationMatrix() const { return C_.rotationMatrix(); }  ///< C
+  const Vector3& translation() const { return r_; }  ///< r
 
   /// Unchecked: the top-left block is taken as the rotation, the last column as r; the
   /// bottom row is ignored.
@@ -244,6 +257,7 @@ class SE3 {
   /// Checked: finite; rotation block orthonormal with det +1 (tolerance as SO3::fromMatrix);
   /// bottom row [0 0 0 1] within the same tolerance (else invalid_argument).
   static Status fromMatrix(const Matrix& M, SE3& out) noexcept { return fromMatrix(M, out, SO3Type::defaultTolerance()); }
+  /// As the overload above, with the tolerance given.
   static Status fromMatrix(const Matrix& M, SE3& out, Scalar tol) noexcept {
     if (!M.allFinite()) return Status::non_finite_input;
     SO3Type C;
@@ -263,14 +277,16 @@ class SE3 {
     out = SE3(C, M.template topRightCorner<3, 1>());
     return Status::ok;
   }
+  /// Re-orthonormalises the rotation (SO3::normalize), after long chains of compositions.
   void normalize() noexcept { C_.normalize(); }
-  bool allFinite() const noexcept { return C_.allFinite() && detail::allFinite(r_); }
+  bool allFinite() const noexcept { return C_.allFinite() && detail::allFinite(r_); }  ///< whether every stored number is finite
   /// Rotation ‖ΔC‖_F ≤ tol and translation ‖Δr‖ ≤ tol · (1 + max(‖r1‖, ‖r2‖)).
   bool isApprox(const SE3& o, Scalar tol) const {
     using std::max;
     const Scalar scale = Scalar(1) + max(r_.norm(), o.r_.norm());
     return C_.isApprox(o.C_, tol) && (r_ - o.r_).norm() <= tol * scale;
   }
+  /// The same motion in another scalar type.
   template <class NewScalar>
   SE3<NewScalar> cast() const {
     return SE3<NewScalar>(C_.template cast<NewScalar>(), r_.template cast<NewScalar>());
@@ -285,7 +301,9 @@ class SE3 {
   }
 
   // ---- conversions --------------------------------------------------------------------------
+  /// From Eigen's isometry, unchecked: its linear part is taken as the rotation.
   static SE3 fromIsometry(const Isometry& T) { return SE3(SO3Type::fromMatrixUnchecked(T.linear()), T.translation()); }
+  /// As Eigen's isometry.
   Isometry isometry() const {
     Isometry T = Isometry::Identity();
     T.linear() = C_.rotationMatrix();
@@ -296,6 +314,7 @@ class SE3 {
   static SE3 fromEulerXYZ6(const Vector6& v) {
     return SE3(SO3Type::fromEulerXYZ(v(3), v(4), v(5)), v.template head<3>());
   }
+  /// The inverse of fromEulerXYZ6: (x, y, z, α, β, γ), angles as SO3::toEulerXYZ.
   Vector6 toEulerXYZ6() const {
     Vector6 v;
     v.template head<3>() = r_;
@@ -304,7 +323,7 @@ class SE3 {
   }
   /// As fromEulerXYZ6 with the angles in degrees (translation unchanged; the dataset's labels).
   static SE3 fromEulerXYZ6Degrees(const Vector6& v) { return fromEulerXYZ6(poseDegToRad(v)); }
-  Vector6 toEulerXYZ6Degrees() const { return poseRadToDeg(toEulerXYZ6()); }
+  Vector6 toEulerXYZ6Degrees() const { return poseRadToDeg(toEulerXYZ6()); }  ///< as toEulerXYZ6 with the angles in degrees
 
  private:
   // Barfoot's Q reduced with the skew-matrix identities (d = φᵀρ, x = θ², S = (φ^)² = φφᵀ − xI):
@@ -362,7 +381,7 @@ class SE3 {
   Vector3 r_;
 };
 
-using SE3d = SE3<double>;
-using SE3f = SE3<float>;
+using SE3d = SE3<double>;  ///< SE(3) in double
+using SE3f = SE3<float>;   ///< SE(3) in float
 
 }  // namespace lieservo

@@ -14,95 +14,117 @@
 
 namespace lieservo {
 
+/// SO(2): a planar rotation, stored as the unit complex number (cos θ, sin θ). The tangent is
+/// θ in radians; the group is abelian, so Ad = 1, ad = 0 and every Jacobian is 1.
 template <typename Scalar_>
 class SO2 {
  public:
-  using Scalar = Scalar_;
-  using Real = detail::RealOf<Scalar>;
-  static constexpr int DoF = 1;
-  static constexpr int Dim = 2;
-  using Tangent = Eigen::Matrix<Scalar, 1, 1>;
-  using Jacobian = Eigen::Matrix<Scalar, 1, 1>;
-  using Point = Eigen::Matrix<Scalar, 2, 1>;
-  using Matrix = Eigen::Matrix<Scalar, 2, 2>;
-  using Vector2 = Eigen::Matrix<Scalar, 2, 1>;
-  using Matrix2 = Eigen::Matrix<Scalar, 2, 2>;
+  using Scalar = Scalar_;                      ///< float, double or long double
+  using Real = detail::RealOf<Scalar>;         ///< the real type behind Scalar
+  static constexpr int DoF = 1;                ///< tangent dimension
+  static constexpr int Dim = 2;                ///< dimension of the space it rotates
+  using Tangent = Eigen::Matrix<Scalar, 1, 1>;   ///< θ (rad)
+  using Jacobian = Eigen::Matrix<Scalar, 1, 1>;  ///< DoF × DoF
+  using Point = Eigen::Matrix<Scalar, 2, 1>;     ///< a point of the plane
+  using Matrix = Eigen::Matrix<Scalar, 2, 2>;    ///< the rotation matrix
+  using Vector2 = Eigen::Matrix<Scalar, 2, 1>;   ///< 2-vector
+  using Matrix2 = Eigen::Matrix<Scalar, 2, 2>;   ///< 2 × 2 matrix
 
+  /// The identity.
   SO2() : cs_(Scalar(1), Scalar(0)) {}
   /// Rotation by θ radians.
   explicit SO2(Scalar theta) : cs_(cosOf(theta), sinOf(theta)) {}
-  static SO2 identity() { return SO2(); }
-  static SO2 fromAngle(Scalar theta) { return SO2(theta); }
+  static SO2 identity() { return SO2(); }                     ///< the identity
+  static SO2 fromAngle(Scalar theta) { return SO2(theta); }  ///< rotation by θ radians
 
+  /// Composition: the rotation by this angle plus o's.
   SO2 operator*(const SO2& o) const {
     return fromCosSinUnchecked(c() * o.c() - s() * o.s(), s() * o.c() + c() * o.s());
   }
+  /// *this = *this * o.
   SO2& operator*=(const SO2& o) {
     *this = *this * o;
     return *this;
   }
+  /// The rotated point R p.
   Point operator*(const Point& p) const { return Point(c() * p(0) - s() * p(1), s() * p(0) + c() * p(1)); }
-  SO2 inverse() const { return fromCosSinUnchecked(c(), -s()); }
+  SO2 inverse() const { return fromCosSinUnchecked(c(), -s()); }  ///< the opposite rotation
 
-  static SO2 exp(const Tangent& theta) { return SO2(theta(0)); }
+  static SO2 exp(const Tangent& theta) { return SO2(theta(0)); }  ///< rotation by θ
   /// θ = atan2(sin, cos) ∈ (−π, π]; exactly π at a half turn (−π is mapped to +π).
   Tangent log() const { return Tangent(angle()); }
+  /// The angle of log(), as a scalar.
   Scalar angle() const {
     using std::atan2;
     const Scalar a = atan2(s(), c());
     return a == -pi<Scalar>() ? pi<Scalar>() : a;
   }
 
+  /// θ^ = [[0, −θ], [θ, 0]].
   static Matrix hat(const Tangent& t) {
     Matrix m;
     m << Scalar(0), -t(0), t(0), Scalar(0);
     return m;
   }
+  /// The inverse of hat (the mean of the two off-diagonal entries, antisymmetrised).
   static Tangent vee(const Matrix& m) { return Tangent(Scalar(Real(0.5)) * (m(1, 0) - m(0, 1))); }
 
-  Jacobian Ad() const { return Jacobian::Identity(); }
-  static Jacobian ad(const Tangent&) { return Jacobian::Zero(); }
-  static Jacobian leftJacobian(const Tangent&) { return Jacobian::Identity(); }
-  static Jacobian leftJacobianInverse(const Tangent&) { return Jacobian::Identity(); }
+  Jacobian Ad() const { return Jacobian::Identity(); }                         ///< adjoint: 1
+  static Jacobian ad(const Tangent&) { return Jacobian::Zero(); }              ///< ad(θ) = 0
+  static Jacobian leftJacobian(const Tangent&) { return Jacobian::Identity(); }  ///< J(θ) = 1
+  static Jacobian leftJacobianInverse(const Tangent&) { return Jacobian::Identity(); }  ///< J(θ)⁻¹ = 1
+  /// The Bernoulli series of J⁻¹ to order N (eq. 34, eqn:inv_jacobian_def): 1 here.
   template <int N>
   static Jacobian leftJacobianInverseSeries(const Tangent& t) {
     return detail::inverseJacobianSeries<SO2, N>(t);
   }
-  static Jacobian rightJacobian(const Tangent&) { return Jacobian::Identity(); }
-  static Jacobian rightJacobianInverse(const Tangent&) { return Jacobian::Identity(); }
+  static Jacobian rightJacobian(const Tangent&) { return Jacobian::Identity(); }  ///< J_r(θ) = 1
+  static Jacobian rightJacobianInverse(const Tangent&) { return Jacobian::Identity(); }  ///< J_r(θ)⁻¹ = 1
+  /// exp(θ), and J(θ) = 1 into J.
   static SO2 expAndLeftJacobian(const Tangent& t, Jacobian& J) {
     J.setIdentity();
     return exp(t);
   }
+  /// log(), and J⁻¹ = 1 into Jinv.
   Tangent logAndLeftJacobianInverse(Jacobian& Jinv) const {
     Jinv.setIdentity();
     return log();
   }
+  /// ln(exp(ξ1^) exp(ξ2^))^∨ with ξ1 small: ξ1 + ξ2, exactly (the group is abelian).
   static Tangent bchLeftSmall(const Tangent& xi1_small, const Tangent& xi2) { return xi1_small + xi2; }
+  /// ln(exp(ξ1^) exp(ξ2^))^∨ with ξ2 small: ξ1 + ξ2, exactly.
   static Tangent bchRightSmall(const Tangent& xi1, const Tangent& xi2_small) { return xi1 + xi2_small; }
+  /// The geodesic from *this (t = 0) to other (t = 1).
   SO2 interpolate(const SO2& other, Scalar t) const { return *this * exp(t * (inverse() * other).log()); }
 
+  /// The rotation matrix.
   Matrix matrix() const {
     Matrix m;
     m << c(), -s(), s(), c();
     return m;
   }
-  Matrix rotationMatrix() const { return matrix(); }
-  Scalar cosAngle() const { return c(); }
-  Scalar sinAngle() const { return s(); }
-  const Vector2& complex() const { return cs_; }
+  Matrix rotationMatrix() const { return matrix(); }  ///< the rotation matrix (as matrix())
+  Scalar cosAngle() const { return c(); }             ///< cos θ
+  Scalar sinAngle() const { return s(); }             ///< sin θ
+  const Vector2& complex() const { return cs_; }      ///< the stored (cos θ, sin θ)
 
+  /// From (cos θ, sin θ) as given: no check that it has unit length.
   static SO2 fromCosSinUnchecked(Scalar c, Scalar s) {
     SO2 r;
     r.cs_ = Vector2(c, s);
     return r;
   }
+  /// From the first column of m: no check that m is a rotation.
   static SO2 fromMatrixUnchecked(const Matrix& m) { return fromCosSinUnchecked(m(0, 0), m(1, 0)); }
+  /// fromMatrix's tolerance on ‖mᵀm − 1‖: √eps of Real.
   static Scalar defaultTolerance() {
     using std::sqrt;
     return Scalar(sqrt(Eigen::NumTraits<Real>::epsilon()));
   }
+  /// Checked, at defaultTolerance(); see the overload with a tolerance.
   static Status fromMatrix(const Matrix& m, SO2& out) noexcept { return fromMatrix(m, out, defaultTolerance()); }
+  /// Checked: non_finite_input, or not_orthonormal unless ‖mᵀm − 1‖ ≤ tol and det m > 0;
+  /// `out` is written only when ok.
   static Status fromMatrix(const Matrix& m, SO2& out, Scalar tol) noexcept {
     if (!m.allFinite()) return Status::non_finite_input;
     if (!((m.transpose() * m - Matrix2::Identity()).norm() <= tol)) return Status::not_orthonormal;
@@ -128,8 +150,10 @@ class SO2 {
   }
   /// Rescales (cos, sin) to unit length; stableNormalize avoids the norm's over/underflow.
   void normalize() noexcept { cs_.stableNormalize(); }
-  bool allFinite() const { return cs_.allFinite(); }
+  bool allFinite() const { return cs_.allFinite(); }  ///< whether both stored numbers are finite
+  /// Whether the rotation matrices differ by at most tol (Frobenius norm).
   bool isApprox(const SO2& o, Scalar tol) const { return (matrix() - o.matrix()).norm() <= tol; }
+  /// The same rotation in another scalar type.
   template <class NewScalar>
   SO2<NewScalar> cast() const {
     return SO2<NewScalar>::fromCosSinUnchecked(NewScalar(c()), NewScalar(s()));
@@ -154,7 +178,7 @@ class SO2 {
   Vector2 cs_;
 };
 
-using SO2d = SO2<double>;
-using SO2f = SO2<float>;
+using SO2d = SO2<double>;  ///< SO(2) in double
+using SO2f = SO2<float>;   ///< SO(2) in float
 
 }  // namespace lieservo

@@ -20,23 +20,25 @@
 namespace lieservo {
 
 template <typename Scalar_>
+/// SO(3): a rotation of space, stored as its 3 × 3 matrix C. The tangent is φ (rad);
+/// left perturbation C = exp(ε^) C̄ (docs/conventions.md).
 class SO3 {
  public:
-  using Scalar = Scalar_;
-  using Real = detail::RealOf<Scalar>;
-  static constexpr int DoF = 3;
-  static constexpr int Dim = 3;
-  using Tangent = Eigen::Matrix<Scalar, 3, 1>;
-  using Jacobian = Eigen::Matrix<Scalar, 3, 3>;
-  using Point = Eigen::Matrix<Scalar, 3, 1>;
-  using Matrix = Eigen::Matrix<Scalar, 3, 3>;
-  using Vector3 = Eigen::Matrix<Scalar, 3, 1>;
-  using Matrix3 = Eigen::Matrix<Scalar, 3, 3>;
-  using Quaternion = Eigen::Quaternion<Scalar>;
+  using Scalar = Scalar_;  ///< float, double or long double
+  using Real = detail::RealOf<Scalar>;  ///< the real type behind Scalar
+  static constexpr int DoF = 3;  ///< tangent dimension
+  static constexpr int Dim = 3;  ///< dimension of the space it rotates
+  using Tangent = Eigen::Matrix<Scalar, 3, 1>;  ///< φ, the rotation vector (rad)
+  using Jacobian = Eigen::Matrix<Scalar, 3, 3>;  ///< DoF × DoF
+  using Point = Eigen::Matrix<Scalar, 3, 1>;  ///< a point of space
+  using Matrix = Eigen::Matrix<Scalar, 3, 3>;  ///< the rotation matrix
+  using Vector3 = Eigen::Matrix<Scalar, 3, 1>;  ///< 3-vector
+  using Matrix3 = Eigen::Matrix<Scalar, 3, 3>;  ///< 3 × 3 matrix
+  using Quaternion = Eigen::Quaternion<Scalar>;  ///< Eigen's quaternion
 
   /// Identity rotation.
   SO3() : C_(Matrix3::Identity()) {}
-  static SO3 identity() { return SO3(); }
+  static SO3 identity() { return SO3(); }  ///< the identity
 
   // ---- group operations -----------------------------------------------------------------
   /// Composition: a plain matrix product (no hidden renormalisation; see normalize()).
@@ -48,8 +50,9 @@ class SO3 {
     detail::multiply3(C_, o.C_, r.C_);
     return r;
   }
-  SO3& operator*=(const SO3& o) { return *this = *this * o; }
-  Point operator*(const Point& p) const { return C_ * p; }
+  SO3& operator*=(const SO3& o) { return *this = *this * o; }  ///< *this = *this * o
+  Point operator*(const Point& p) const { return C_ * p; }  ///< the rotated point C p
+  /// The inverse rotation Cᵀ.
   SO3 inverse() const {
     SO3 r;
     r.C_ = C_.transpose();
@@ -118,6 +121,7 @@ class SO3 {
   }
   /// Right Jacobian Jr(φ) = J(−φ) = J(φ)ᵀ.
   static Jacobian rightJacobian(const Tangent& phi) { return leftJacobian(-phi); }
+  /// Jr(φ)⁻¹ = J(−φ)⁻¹.
   static Jacobian rightJacobianInverse(const Tangent& phi) { return leftJacobianInverse(-phi); }
 
   /// exp(φ) and J(φ) sharing the trigonometric work.
@@ -148,7 +152,7 @@ class SO3 {
   SO3 interpolate(const SO3& other, Scalar t) const { return *this * exp(t * (inverse() * other).log()); }
 
   // ---- matrices and construction -----------------------------------------------------------
-  Matrix matrix() const { return C_; }
+  Matrix matrix() const { return C_; }  ///< the rotation matrix C
   /// Read-only: a rotation changes only through the group operations and the checked or
   /// explicitly unchecked constructors (fromMatrix, fromMatrixUnchecked, ...).
   const Matrix3& rotationMatrix() const { return C_; }
@@ -166,6 +170,7 @@ class SO3 {
   }
   /// Checked: finite, ‖CᵀC − I‖_F ≤ tol, det C > 0. `out` is untouched unless ok.
   static Status fromMatrix(const Matrix& C, SO3& out) noexcept { return fromMatrix(C, out, defaultTolerance()); }
+  /// As the overload above, with the tolerance on ‖CᵀC − I‖_F given.
   static Status fromMatrix(const Matrix& C, SO3& out, Scalar tol) noexcept {
     if (!C.allFinite()) return Status::non_finite_input;
     if (!((C.transpose() * C - Matrix3::Identity()).norm() <= tol)) return Status::not_orthonormal;
@@ -206,10 +211,11 @@ class SO3 {
     C_.col(1) = y;
     C_.col(2) = x.cross(y);
   }
-  bool allFinite() const noexcept { return detail::allFinite(C_); }
+  bool allFinite() const noexcept { return detail::allFinite(C_); }  ///< whether every entry of C is finite
   /// ‖C1 − C2‖_F ≤ tol.
   bool isApprox(const SO3& o, Scalar tol) const { return (C_ - o.C_).norm() <= tol; }
 
+  /// The same rotation in another scalar type.
   template <class NewScalar>
   SO3<NewScalar> cast() const {
     return SO3<NewScalar>::fromMatrixUnchecked(C_.template cast<NewScalar>());
@@ -264,7 +270,7 @@ class SO3 {
     C(2, 2) = cb * ca;
     return fromMatrixUnchecked(C);
   }
-  static SO3 fromEulerXYZ(const Vector3& abg) { return fromEulerXYZ(abg(0), abg(1), abg(2)); }
+  static SO3 fromEulerXYZ(const Vector3& abg) { return fromEulerXYZ(abg(0), abg(1), abg(2)); }  ///< fromEulerXYZ(α, β, γ) from one vector
   /// (α, β, γ) with β ∈ [−π/2, π/2], α, γ ∈ (−π, π]. At gimbal lock (cos β ≈ 0) γ = 0.
   Vector3 toEulerXYZ() const {
     using std::atan2;
@@ -276,10 +282,12 @@ class SO3 {
     }
     return Vector3(atan2(-C_(1, 2), C_(1, 1)), b, Scalar(0));
   }
+  /// fromEulerXYZ with the angles in degrees (for labels and presets at the edges).
   static SO3 fromEulerXYZDegrees(Scalar a, Scalar b, Scalar g) {
     return fromEulerXYZ(deg2rad(a), deg2rad(b), deg2rad(g));
   }
-  static SO3 fromEulerXYZDegrees(const Vector3& abg) { return fromEulerXYZDegrees(abg(0), abg(1), abg(2)); }
+  static SO3 fromEulerXYZDegrees(const Vector3& abg) { return fromEulerXYZDegrees(abg(0), abg(1), abg(2)); }  ///< the same from one vector (degrees)
+  /// toEulerXYZ in degrees.
   Vector3 toEulerXYZDegrees() const {
     const Vector3 r = toEulerXYZ();
     return Vector3(rad2deg(r(0)), rad2deg(r(1)), rad2deg(r(2)));
@@ -298,6 +306,7 @@ class SO3 {
     }
     return expWith(phi, detail::AngleTerms<Scalar>(x));
   }
+  /// Kernel shared with SE3 (not part of the contract): exp from precomputed angle terms.
   static SO3 expWith(const Tangent& phi, const detail::AngleTerms<Scalar>& t) {
     return rodrigues(phi, t.theta2, detail::coeffA(t), detail::coeffB(t));
   }
@@ -324,9 +333,11 @@ class SO3 {
     detail::matrixFromHalfAngle(phi, k, w, r.C_);
     return r;
   }
+  /// Kernel shared with SE3 (not part of the contract): J(φ) from precomputed angle terms.
   static Jacobian leftJacobianWith(const Tangent& phi, const detail::AngleTerms<Scalar>& t) {
     return identityPlus(phi, detail::coeffB(t), detail::coeffC(t));
   }
+  /// Kernel shared with SE3 (not part of the contract): J(φ)⁻¹ from precomputed angle terms.
   static Jacobian leftJacobianInverseWith(const Tangent& phi, const detail::AngleTerms<Scalar>& t) {
     return identityPlus(phi, Scalar(Real(-0.5)), detail::coeffD(t));
   }
@@ -365,7 +376,7 @@ class SO3 {
   Matrix3 C_;
 };
 
-using SO3d = SO3<double>;
-using SO3f = SO3<float>;
+using SO3d = SO3<double>;  ///< SO(3) in double
+using SO3f = SO3<float>;   ///< SO(3) in float
 
 }  // namespace lieservo

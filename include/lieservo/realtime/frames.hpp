@@ -36,10 +36,10 @@
 
 namespace lieservo::realtime {
 
-using Matrix3 = Eigen::Matrix3d;
-using Vector3 = Eigen::Vector3d;
-using Vector6 = Eigen::Matrix<double, 6, 1>;
-using Matrix4 = Eigen::Matrix4d;
+using Matrix3 = Eigen::Matrix3d;               ///< a rotation
+using Vector3 = Eigen::Vector3d;               ///< a point or a velocity
+using Vector6 = Eigen::Matrix<double, 6, 1>;  ///< a twist [v; ω]
+using Matrix4 = Eigen::Matrix4d;               ///< a homogeneous transform
 
 /// Default tolerance of the orthonormality check on robot-supplied rotations (‖RᵀR − I‖_F).
 constexpr double kRotationTolerance = 1e-6;
@@ -67,7 +67,7 @@ inline Status poseFromHomogeneous(const Matrix4& T, Matrix3& R, Vector3& p, doub
 
 /// Rigid mounting of the sensor on the end effector: X_ES = (R_ES, p_ES).
 struct SensorMount {
-  Matrix3 R_es = Matrix3::Identity();
+  Matrix3 R_es = Matrix3::Identity();  ///< sensor axes in {E}
   Vector3 p_es = Vector3::Zero();  ///< sensor origin in {E}, in the command's length unit
 
   /// non_finite_input, not_orthonormal (isRotation with `tol`), or ok.

@@ -44,6 +44,8 @@ inline std::int64_t steadyNowNs() noexcept {
 }
 
 template <typename T>
+/// Lock-free single-writer single-reader channel of the newest value of T (a triple buffer;
+/// the header comment gives the design): write() and read() are wait-free.
 class LatestValueChannel {
   static_assert(std::is_trivially_copyable<T>::value,
                 "LatestValueChannel<T> needs a trivially copyable T (copied by value, no allocation)");

@@ -31,9 +31,10 @@ struct TwistCommand {
   bool in_contact = false;          ///< the tactile thread's contact decision for this frame
 };
 
+/// The pipeline's limits, watchdog, sensor mount, units and command period.
 struct PipelineOptions {
   SmootherLimits<double> limits{};   ///< base-frame limits, SI (m, rad); must be valid
-  WatchdogOptions watchdog{};
+  WatchdogOptions watchdog{};  ///< when commands may pass
   SensorMount mount{};               ///< X_ES with p_ES in METRES
   double twist_to_metres = 1e-3;     ///< command translation unit → m (library mm → 1e-3)
   double control_period_s = 1e-3;    ///< the robot's command period (libfranka: 1 ms)
@@ -52,6 +53,8 @@ struct PipelineOptions {
   }
 };
 
+/// The body of a 1 kHz Cartesian velocity callback: watchdog, sensor-to-base twist,
+/// jerk-limited smoothing in the base frame (the header comment gives the steps).
 class CartesianVelocityPipeline {
  public:
   CartesianVelocityPipeline() noexcept { (void)configure(PipelineOptions{}); }
@@ -67,7 +70,7 @@ class CartesianVelocityPipeline {
     (void)watchdog_.configure(o.watchdog);
     return Status::ok;
   }
-  const PipelineOptions& options() const noexcept { return options_; }
+  const PipelineOptions& options() const noexcept { return options_; }  ///< the options in force
 
   /// One control cycle. `T_OE`: the robot's current EE pose (homogeneous, metres);
   /// `cmd`/`stamp`: the latest command from the channel (stamp.sequence == 0: none yet);
@@ -128,8 +131,8 @@ class CartesianVelocityPipeline {
     return smoother_.reset(velocity, acceleration);
   }
 
-  const VelocitySmoother<double>& smoother() const noexcept { return smoother_; }
-  const CommandWatchdog& watchdog() const noexcept { return watchdog_; }
+  const VelocitySmoother<double>& smoother() const noexcept { return smoother_; }  ///< the base-frame smoother
+  const CommandWatchdog& watchdog() const noexcept { return watchdog_; }  ///< the command watchdog
 
  private:
   Status advance(const Vector6& target, std::array<double, 6>& out) noexcept {

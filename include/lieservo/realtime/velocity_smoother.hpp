@@ -52,9 +52,9 @@ namespace lieservo::realtime {
 /// float as in double; any robot's limits, in m or mm, are far inside them.
 template <typename Scalar = double>
 struct AxisLimits {
-  Scalar velocity;
-  Scalar acceleration;
-  Scalar jerk;
+  Scalar velocity;  ///< |v| limit (units/s)
+  Scalar acceleration;  ///< |a| limit (units/s²)
+  Scalar jerk;  ///< |j| limit (units/s³)
   /// ok, non_finite_input (a NaN or infinite limit) or invalid_argument (outside the bounds).
   Status validate() const noexcept {
     if (!std::isfinite(velocity) || !std::isfinite(acceleration) || !std::isfinite(jerk))
@@ -75,8 +75,8 @@ struct AxisLimits {
 /// Tactile servoing in the paper moves at ~10–25 mm/s, far inside these.
 template <typename Scalar = double>
 struct SmootherLimits {
-  AxisLimits<Scalar> translation{Scalar(0.25), Scalar(2.5), Scalar(250)};
-  AxisLimits<Scalar> rotation{Scalar(0.8), Scalar(5), Scalar(500)};
+  AxisLimits<Scalar> translation{Scalar(0.25), Scalar(2.5), Scalar(250)};  ///< linear part (length units)
+  AxisLimits<Scalar> rotation{Scalar(0.8), Scalar(5), Scalar(500)};  ///< angular part (rad)
 
   /// ok, or the first axis's AxisLimits::validate() Status (translation, then rotation).
   Status validate() const noexcept {
@@ -243,9 +243,9 @@ class NormLimiter3 {
 template <typename Scalar = double>
 class VelocitySmoother {
  public:
-  using Twist = Eigen::Matrix<Scalar, 6, 1>;
-  using Vec3 = Eigen::Matrix<Scalar, 3, 1>;
-  using Limits = SmootherLimits<Scalar>;
+  using Twist = Eigen::Matrix<Scalar, 6, 1>;  ///< [v; ω]
+  using Vec3 = Eigen::Matrix<Scalar, 3, 1>;  ///< one part of a twist
+  using Limits = SmootherLimits<Scalar>;  ///< velocity, acceleration and jerk limits of both parts
 
   VelocitySmoother() noexcept { reset(); }
 
@@ -262,8 +262,8 @@ class VelocitySmoother {
     limits_ = limits;
     return Status::ok;
   }
-  const Options& options() const noexcept { return limits_; }
-  const Limits& limits() const noexcept { return limits_; }
+  const Options& options() const noexcept { return limits_; }  ///< the limits in force
+  const Limits& limits() const noexcept { return limits_; }  ///< the limits in force (as options())
 
   /// Rest: zero velocity and acceleration.
   void reset() noexcept {

@@ -34,10 +34,11 @@
 
 namespace lieservo::realtime {
 
+/// The watchdog's timeout, re-arming and contact-loss policy.
 struct WatchdogOptions {
   double command_timeout_s = 0.2;   ///< max age of the latest command (camera ~30 Hz: ~6 frames)
   int rearm_fresh_commands = 3;     ///< consecutive fresh commands needed to (re)arm, >= 1
-  bool stop_on_contact_loss = true;
+  bool stop_on_contact_loss = true;  ///< stop when a command reports lost contact (after a first contact)
   bool latch_contact_loss = true;   ///< contact-loss stop needs rearm()
 
   /// ok, non_finite_input (a NaN or infinite timeout) or invalid_argument (a timeout ≤ 0,
@@ -49,6 +50,7 @@ struct WatchdogOptions {
   }
 };
 
+/// Where the watchdog is (the header comment gives the transitions).
 enum class WatchdogState : int {
   waiting = 0,
   active,
@@ -57,6 +59,7 @@ enum class WatchdogState : int {
   tripped_external,
 };
 
+/// A short phrase for a state, for logs and messages.
 constexpr const char* describe(WatchdogState s) noexcept {
   switch (s) {
     case WatchdogState::waiting: return "waiting for fresh commands";
@@ -68,6 +71,8 @@ constexpr const char* describe(WatchdogState s) noexcept {
   return "unknown";
 }
 
+/// Decides every control cycle whether the latest tactile command may pass (the header
+/// comment gives the states and the policy).
 class CommandWatchdog {
  public:
   CommandWatchdog() noexcept = default;
@@ -79,7 +84,7 @@ class CommandWatchdog {
     rearm();
     return Status::ok;
   }
-  const WatchdogOptions& options() const noexcept { return options_; }
+  const WatchdogOptions& options() const noexcept { return options_; }  ///< the options in force
 
   /// One control cycle. `sequence`: the latest command's sequence number (0 = none yet);
   /// `age_s`: its age in seconds (>= 0, ignored when sequence == 0); `in_contact`: the
@@ -121,7 +126,7 @@ class CommandWatchdog {
 
   /// True when the latest command may be passed to the robot.
   bool passCommands() const noexcept { return state_ == WatchdogState::active; }
-  WatchdogState state() const noexcept { return state_; }
+  WatchdogState state() const noexcept { return state_; }  ///< the current state
 
   /// Stop request / fault: stop passing commands until rearm().
   void trip() noexcept { enterTripped(WatchdogState::tripped_external); }
