@@ -6,6 +6,22 @@
 
 namespace lieservo::sim {
 
+ContactState touchContact(const mujoco::World& world, int sensor, ContactModel& contact) {
+  const mujoco::TipGeometry g = world.tipGeometry(sensor);
+  if (!g.valid) {
+    contact.release();
+    ContactState none;
+    none.depth = -1e3;
+    return none;
+  }
+  const SE3d X_wo = g.object >= 0 ? world.objectPose(g.object) : world.fixturePose(g.fixture);
+  SurfacePoint sp;
+  sp.point = X_wo.inverse() * g.point_w;
+  sp.normal = X_wo.rotationMatrix().transpose() * g.normal_w;
+  sp.signed_distance = contact.params().tip_radius - g.depth;
+  return contact.update(world.sensorPose(sensor), X_wo, sp, world.gelDeflection(sensor));
+}
+
 void ArmLimits::validate() const {
   requirePositive(max_linear_speed, "ArmLimits.max_linear_speed");
   requirePositive(max_angular_speed, "ArmLimits.max_angular_speed");

@@ -86,21 +86,7 @@ struct EngineArm {
 
   SE3d pose() const { return arm.pose(); }
   /// The contact from the engine's nearest surface point (nothing in range: no contact).
-  void touch(const mujoco::World& w) {
-    const mujoco::TipGeometry g = w.tipGeometry(arm.sensor());
-    if (!g.valid) {
-      contact.release();
-      state = ContactState{};
-      state.depth = -1e3;
-      return;
-    }
-    const SE3d X_wo = g.object >= 0 ? w.objectPose(g.object) : w.fixturePose(g.fixture);
-    SurfacePoint sp;
-    sp.point = X_wo.inverse() * g.point_w;
-    sp.normal = X_wo.rotationMatrix().transpose() * g.normal_w;
-    sp.signed_distance = contact.params().tip_radius - g.depth;
-    state = contact.update(pose(), X_wo, sp, w.gelDeflection(arm.sensor()));
-  }
+  void touch(const mujoco::World& w) { state = touchContact(w, arm.sensor(), contact); }
   Status observe(Gaussian& g) { return observeContact(*gdn, state, g); }
   Status sense(SE3d& X_sf) { return senseContact(*gdn, state, filter, pose(), X_sf); }
   /// A new start: the filter forgets, the next contact starts unsheared.

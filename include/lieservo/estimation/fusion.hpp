@@ -119,7 +119,7 @@ struct FusionResult {
   /// √(μᵀ Σ*⁻¹ μ) of the last update: its length in standard deviations of the result, what
   /// FusionOptions::tolerance compares. With the fixed count (tolerance = 0) the only sign of
   /// an iteration that has not settled: factors far outside the concentrated regime
-  /// (rotational σ ≫ 1 rad) can make it wander (docs/performance.md, hard-set finding), and
+  /// (rotational σ ≫ 1 rad) can make it wander (docs/performance_design.md, the hard set), and
   /// the result is still returned with ok.
   typename G::Scalar step_sigmas = typename G::Scalar(0);
   /// Whether the converged rule (tolerance > 0) was met; false with the fixed count.

@@ -61,6 +61,29 @@ void Arm::injectReflex(const std::string& what) {
   reflex_ = what.empty() ? "injected reflex" : what;
 }
 
+void Arm::setLockstep(bool on) {
+  std::lock_guard<std::mutex> g(mutex_);
+  lockstep_ = on;
+  permits_ = 0;
+  cycle_cv_.notify_all();
+}
+
+int Arm::advance(int n) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  if (!lockstep_ || !in_control_ || n <= 0) return 0;
+  ran_ = 0;
+  permits_ = n;
+  cycle_cv_.notify_all();
+  cycle_cv_.wait(lock, [&] { return permits_ == 0 || !in_control_; });
+  permits_ = 0;
+  return ran_;
+}
+
+bool Arm::inControl() const {
+  std::lock_guard<std::mutex> g(mutex_);
+  return in_control_;
+}
+
 panda::Joints Arm::joints() const {
   std::lock_guard<std::mutex> g(mutex_);
   return q_;
@@ -118,14 +141,29 @@ void Arm::control(const std::function<franka::CartesianVelocities(const franka::
     if (faulted_)
       throw franka::CommandException("libfranka: Move command rejected: the robot is in reflex mode (automaticErrorRecovery)");
   }
+  struct InControl {  // in_control_ for advance(), cleared however control() ends
+    Arm& a;
+    explicit InControl(Arm& arm) : a(arm) {
+      std::lock_guard<std::mutex> g(a.mutex_);
+      a.in_control_ = true;
+    }
+    ~InControl() {
+      std::lock_guard<std::mutex> g(a.mutex_);
+      a.in_control_ = false;
+      a.cycle_cv_.notify_all();
+    }
+  } in_control(*this);
   using Clock = std::chrono::steady_clock;
   Eigen::Matrix<double, 6, 1> v_prev = Eigen::Matrix<double, 6, 1>::Zero(), a_prev = v_prev;
   auto next = Clock::now();
   for (std::uint64_t k = 0;; ++k) {
     franka::RobotState state;
+    bool paced;  // at 1 kHz of wall-clock time, unless the cycles are released by advance()
     {
-      std::lock_guard<std::mutex> g(mutex_);
+      std::unique_lock<std::mutex> g(mutex_);
+      cycle_cv_.wait(g, [&] { return !lockstep_ || permits_ > 0; });
       state = stateLocked();
+      paced = !lockstep_;
     }
     const franka::CartesianVelocities c = cb(state, franka::Duration(k == 0 ? 0 : 1));
     const Eigen::Map<const Eigen::Matrix<double, 6, 1>> v(c.O_dP_EE.data());
@@ -174,12 +212,18 @@ void Arm::control(const std::function<franka::CartesianVelocities(const franka::
     dq_ = r.dq;
     time_ms_ += 1;
     report_.min_joint_margin = std::min(report_.min_joint_margin, panda::jointLimitMargin(q_));
+    if (lockstep_ && permits_ > 0) {
+      --permits_;
+      ++ran_;
+      cycle_cv_.notify_all();
+    }
     if (c.motion_finished) {
       dq_.setZero();
       ++report_.motions;
       return;
     }
     lock.unlock();
+    if (!paced) continue;
     next += std::chrono::milliseconds(1);
     const auto now = Clock::now();
     if (now > next + std::chrono::milliseconds(20)) next = now;  // far behind (a loaded machine): no burst

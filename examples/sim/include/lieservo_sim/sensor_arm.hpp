@@ -10,6 +10,7 @@
 #pragma once
 
 #include "common.hpp"
+#include "contact_model.hpp"
 #include "mujoco_world.hpp"
 #include "robot_interface.hpp"  // examples/robot (include path set by CMake)
 
@@ -28,6 +29,11 @@ struct ArmLimits {
 /// reached from `applied` no faster than the acceleration limits allow over h seconds.
 lieservo::robot::Twist limitTwist(const lieservo::robot::Twist& target, const lieservo::robot::Twist& applied,
                                   const ArmLimits& limits, double h);
+
+/// The tactile contact of the world's sensor `sensor`, from the engine's nearest surface point
+/// (an object or a fixture) and the gel's deflection, through `contact` (its anchor is
+/// released when nothing is in range; the state then says no contact, depth −1000 mm).
+ContactState touchContact(const mujoco::World& world, int sensor, ContactModel& contact);
 
 class MujocoSensorArm final : public lieservo::robot::RobotInterface {
  public:

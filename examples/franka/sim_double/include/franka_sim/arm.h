@@ -10,9 +10,12 @@
 //
 // Kinematic: joint velocity control without dynamics or contact (the arm tracks its joint
 // velocity command exactly), paced at 1 kHz of wall-clock time, since the
-// adapter's watchdog measures the age of commands on the steady clock.
+// adapter's watchdog measures the age of commands on the steady clock. In lockstep mode
+// (setLockstep) the cycles run only as a simulation releases them (advance), so that a
+// simulated world and the arm share one clock (tests/franka/test_franka_tasks.cpp).
 #pragma once
 
+#include <condition_variable>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -55,6 +58,14 @@ class Arm {
 
   /// The next 1 kHz cycle raises a ControlException with this text (a reflex).
   void injectReflex(const std::string& what);
+  /// Lockstep with a simulation (off by default): control() runs a 1 kHz cycle only when
+  /// advance() has released one, so that the arm and a simulated world share one clock.
+  void setLockstep(bool on);
+  /// Releases n cycles and waits until they have run or no control() call is running; the
+  /// number of cycles run (0 while the robot is idle: the arm rests meanwhile).
+  int advance(int n);
+  /// Whether a control() call is running (a motion has started and not ended).
+  bool inControl() const;
 
   panda::Joints joints() const;
   panda::Joints jointVelocities() const;
@@ -73,7 +84,9 @@ class Arm {
   mutable std::mutex mutex_;
   panda::Joints q_, dq_ = panda::Joints::Zero();
   std::uint64_t time_ms_ = 0;
-  bool faulted_ = false;
+  bool faulted_ = false, lockstep_ = false, in_control_ = false;
+  int permits_ = 0, ran_ = 0;
+  std::condition_variable cycle_cv_;
   std::string reflex_;
   ArmReport report_;
 };
