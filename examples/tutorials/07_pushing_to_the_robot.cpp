@@ -4,10 +4,11 @@
 // Lessons 03 and 04 met the filter and the servo controller one at a time. Here everything runs
 // together in a physics engine (MuJoCo), as it would on a robot:
 //
-//   20 Hz tactile loop:  contact → GDN-like observation (μ, σ) → concentrated Gaussian (eq. 14,
-//                        eq:se3_inverse_transform) → Bayes filter with a χ² gate (Algorithm 2,
-//                        alg:se3_bayes_filter) → pushing controller (Section 3.3.3,
-//                        sec:pushing_controller) → a sensor twist, written to a channel;
+//   20 Hz tactile loop:  contact → GDN-like observation (μ, σ)
+//                        → concentrated Gaussian (eq. 14, eq:se3_inverse_transform)
+//                        → Bayes filter with a χ² gate (Algorithm 2, alg:se3_bayes_filter)
+//                        → pushing controller (Section 3.3.3, sec:pushing_controller)
+//                        → a sensor twist, written to a channel;
 //   robot loop (here 400 Hz, the engine's step; 1 kHz on a Franka): read the newest twist → the
 //                        command watchdog → the twist in the robot's base frame, in m/s →
 //                        the jerk-limited smoother → the robot's velocity command.
@@ -18,8 +19,8 @@
 // off, as a misread tactile image would be) to show the gate reject it while the filter carries
 // on with its prediction.
 //
-// The object is the paper's 100 mm blue square on MDF (Section 5.6,
-// sec:single_arm_object_pushing_exp): the sensor starts 250 mm before the origin and pushes it
+// The object is the paper's 100 mm blue square on MDF
+// (Section 5.6, sec:single_arm_object_pushing_exp): the sensor starts 250 mm before the origin and pushes it
 // to a target 375 mm away along y, so the controller must turn the object on the way.
 // Exits with status 1 if a check stated at the end of main() fails.
 //
