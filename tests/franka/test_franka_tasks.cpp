@@ -1,21 +1,24 @@
-// A task through the Franka adapter: single-arm pushing of the paper's blue square on MDF
-// (Section 5.6, sec:single_arm_object_pushing_exp), with examples/franka/franka_adapter.cpp,
-// unchanged, driving the simulated Panda of the libfranka test double. The tactile loop (this
-// thread, 20 Hz of simulated time) observes the contact in the MuJoCo world, filters it and runs
-// the pushing controller; its twist goes through the adapter's channel to the 1 kHz callback on
-// the adapter's own thread (watchdog, base-frame conversion, jerk-limited smoother) and moves the
+// Two tasks through the Franka adapter, each beside the driven-body run of the same scene:
+// single-arm pushing of the paper's blue square on MDF (Section 5.6,
+// sec:single_arm_object_pushing_exp) and surface following on the curved ramp (Section 5.5,
+// sec:surface_follow_exp), with examples/franka/franka_adapter.cpp, unchanged, driving the
+// simulated Panda of the libfranka test double. The tactile loop (this thread, 20 Hz of
+// simulated time) observes the contact in the MuJoCo world, filters it and runs the task's
+// controller; its twist goes through the adapter's channel to the 1 kHz callback on the
+// adapter's own thread (watchdog, base-frame conversion, jerk-limited smoother) and moves the
 // arm; the world's sensor follows the arm's flange through the sensor mount. The arm and the
 // world share one clock: the double runs in lockstep (franka_sim::Arm::advance), 2 or 3 arm
 // cycles per 2.5 ms world step.
 //
 // What the driven-body world of the tasks does not show, reported here: the twist the arm
 // achieved against the one commanded, the smoother's effect, joint-limit margins,
-// manipulability, watchdog trips, and the push's end beside the driven-body run of the same
-// scene. Bounds written before the first run.
+// manipulability, watchdog trips, and the task's end beside the driven-body run. Bounds written
+// before the first run.
 #include <catch2/catch.hpp>
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <string>
 #include <thread>
@@ -71,11 +74,10 @@ SE3d flangeMm(const panda::Joints& q) {
   return SE3d::fromMatrixUnchecked(T);
 }
 
-struct PushOutcome {
-  bool terminated = false;
+/// What one run of the tactile loop did.
+struct LoopOutcome {
+  bool finished = false;           ///< the task said it had finished (pushing: terminated)
   double time = 0;                 ///< s simulated
-  Vec3 object = Vec3::Zero();      ///< final (x, y, yaw) of the object
-  double sensor_to_target = 0;     ///< mm, the controller's termination distance at the end
   double max_twist_gap = 0;        ///< mm/s: achieved against commanded translation, worst period
   double rms_twist_gap = 0;        ///< mm/s, over the periods after the watchdog armed
   double max_pose_gap = 0;         ///< mm: the world's sensor against the arm's, worst step
@@ -88,26 +90,25 @@ Vec3 planar(const SE3d& X) {
   return Vec3(X.translation().x(), X.translation().y(), std::atan2(R(1, 0), R(0, 0)));
 }
 
-/// The tactile loop shared by both runs. `command` sends the controller's twist to the robot;
-/// `run_period` moves the robot and the world through one tactile period; `pose` reads X_ws.
-template <class Command, class RunPeriod, class Pose>
-PushOutcome push(mujoco::World& world, const ContactParams& contact_params, Command command, RunPeriod run_period,
-                 Pose pose) {
-  PushOutcome out;
+/// The tactile loop shared by every run, one period of kDt at a time: read X_ws, observe the
+/// contact through the seeded GDN model (both runs of a task see the same noise sequence for the
+/// same contacts), filter it (Algorithm 2), let `control` compute the twist from X_ws, the
+/// filtered X_sf and the true contact (and say when the task has finished), send it with
+/// `command`, and move the robot and the world through the period with `run_period`.
+template <class Control, class Command, class RunPeriod, class Pose>
+LoopOutcome tactileLoop(mujoco::World& world, const ContactParams& contact_params, double timeout, Control control,
+                        Command command, RunPeriod run_period, Pose pose) {
+  LoopOutcome out;
   ContactModel contact(contact_params);
-  GdnObservationModel gdn;  // seeded: both runs see the same noise sequence for the same contacts
+  GdnObservationModel gdn;
   lieservo::DiscriminativeBayesFilter<SE3d> filter;
-  auto options = lieservo::pushingPreset<double>(lieservo::PushingConfiguration::single_arm);
-  options.target = SE3d(SO3d::identity(), kTarget);
-  lieservo::PushingController<double> pusher(options);
-  REQUIRE(pusher.configurationStatus() == Status::ok);
   auto fail = [&](Status s, const char* where) {
     out.status = s;
     out.where = where;
   };
   double sum_gap2 = 0;
   long gaps = 0, lost = 0;
-  for (long k = 0; k * kDt < 120; ++k) {
+  for (long k = 0; k * kDt < timeout; ++k) {
     SE3d X_ws;
     Status s = pose(X_ws);
     if (s != Status::ok) return fail(s, "pose"), out;
@@ -120,11 +121,12 @@ PushOutcome push(mujoco::World& world, const ContactParams& contact_params, Comm
     if (s == Status::ok) s = filter.step(X_ws, g);
     if (s != Status::ok) return fail(s, "filter"), out;
     SE3d::Tangent u;
-    s = pusher.step(X_ws, filter.filtered().mean, kDt, u);
+    bool finished = false;
+    s = control(X_ws, filter.filtered().mean, state, u, finished);
     if (s != Status::ok) return fail(s, "controller"), out;
-    out.time = k * kDt;
-    if (pusher.terminated()) {
-      out.terminated = true;
+    out.time = double(k) * kDt;
+    if (finished) {
+      out.finished = true;
       break;
     }
     s = command(u, state.in_contact);
@@ -143,140 +145,311 @@ PushOutcome push(mujoco::World& world, const ContactParams& contact_params, Comm
     }
   }
   out.rms_twist_gap = gaps ? std::sqrt(sum_gap2 / double(gaps)) : 0.0;
-  out.sensor_to_target = pusher.terminationDistance();
-  out.object = planar(world.objectPose(0));
   return out;
 }
 
+/// The driven-body robot: the world's sensor 0 follows the commanded twist exactly (the tasks'
+/// world, MujocoSensorArm), `substeps` world steps of h per period.
+struct DrivenBody {
+  mujoco::World& world;
+  MujocoSensorArm body;
+  int substeps;
+  double h;
+  SE3d::Tangent u_now = SE3d::Tangent::Zero();
+
+  DrivenBody(mujoco::World& w, int n, double step) : world(w), body(w, 0), substeps(n), h(step) {}
+  Status command(const SE3d::Tangent& u, bool) {
+    u_now = u;
+    return Status::ok;
+  }
+  Status runPeriod() {
+    for (int j = 0; j < substeps; ++j) {
+      Status s = body.commandVelocity(u_now, h);
+      if (s == Status::ok) s = world.step(h);
+      if (s != Status::ok) return s;
+    }
+    return Status::ok;
+  }
+  Status pose(SE3d& X) { return body.readPose(X); }
+};
+
+/// The Panda of the libfranka test double holding the world's sensor 0, commanded through
+/// FrankaAdapter as on hardware. The Panda starts at its ready pose with the sensor at the
+/// scene's start: the mount X_ES puts the tip 100 mm beyond the flange along its z, turned so
+/// that the base stands upright (R_wO = 1), and the base goes where that puts it. The arm runs
+/// in lockstep with the world: 2 or 3 arm cycles of 1 ms per 2.5 ms world step.
+class AdapterRig {
+ public:
+  AdapterRig(const std::string& address, mujoco::World& world, int substeps, double h)
+      : address_(address),
+        arm_(franka_sim::Arm::create(address, panda::readyPose())),
+        remove_{address},
+        world_(world),
+        substeps_(substeps),
+        h_(h),
+        X_ES_(mount(world)),
+        X_wO_(world.sensorPose(0) * (flangeMm(panda::readyPose()) * X_ES_).inverse()),
+        adapter_(options(address, X_ES_, X_wO_)) {
+    REQUIRE((X_wO_.rotationMatrix() - Eigen::Matrix3d::Identity()).norm() < 1e-12);
+    arm_->setLockstep(true);
+  }
+
+  Status command(const SE3d::Tangent& u, bool in_contact) { return adapter_.commandVelocity(u, kDt, in_contact); }
+
+  Status runPeriod() {
+    // The adapter starts its control loop on the first command: wait for it (≤ 2 s).
+    for (int i = 0; i < 2000 && !arm_->inControl(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (!arm_->inControl()) return Status::device_error;
+    for (int j = 0; j < substeps_; ++j) {
+      const int cycles = j % 2 == 0 ? 2 : 3;  // 50 cycles of 1 ms per 20 steps of 2.5 ms
+      if (arm_->advance(cycles) != cycles) return Status::device_error;
+      // The world's sensor follows the flange: the body twist that takes it there in h.
+      const SE3d X_arm = X_wO_ * flangeMm(arm_->joints()) * X_ES_;
+      const SE3d X_world = world_.sensorPose(0);
+      max_pose_gap_ = std::max(max_pose_gap_, (X_arm.translation() - X_world.translation()).norm());
+      Status s = world_.setSensorTwist(0, (X_world.inverse() * X_arm).log() / h_);
+      if (s == Status::ok) s = world_.step(h_);
+      if (s != Status::ok) return s;
+    }
+    const auto state = adapter_.stats().watchdog;
+    if (state == lieservo::realtime::WatchdogState::waiting) ++waiting_;  // arming: 3 fresh commands
+    else if (state != lieservo::realtime::WatchdogState::active) ++trips_;
+    return Status::ok;
+  }
+
+  Status pose(SE3d& X) { return adapter_.readPose(X); }
+
+  /// Ends the run (the stop's ramp runs at wall-clock pace) and prints and checks what the
+  /// driven-body world does not show, with the bounds written before the first run: no error
+  /// anywhere (double, adapter, pipeline, watchdog); after the watchdog has armed, the
+  /// translation achieved over each period within 2 mm/s rms (5 mm/s worst) of the command (the
+  /// smoother's lag at the tasks' 10-25 mm/s); the world's sensor within 0.5 mm of the flange's
+  /// mount; the arm inside its joint limits and away from singularities.
+  void finishAndCheck(const char* task, LoopOutcome& run) {
+    run.max_pose_gap = max_pose_gap_;
+    const auto stats = adapter_.stats();
+    arm_->setLockstep(false);
+    adapter_.stop();
+    const franka_sim::ArmReport report = arm_->report();
+    std::printf(
+        "  %s through the adapter: achieved against commanded twist: rms %.3f mm/s, worst %.3f mm/s; world sensor "
+        "against the arm's flange: %.4f mm; watchdog arming for %ld periods, tripped after %ld; %s %s\n",
+        task, run.rms_twist_gap, run.max_twist_gap, run.max_pose_gap, waiting_, trips_,
+        run.status == Status::ok ? "no error" : describe(run.status), run.where.c_str());
+    std::printf(
+        "  the double: %llu cycles, %llu errors %s; min joint margin %.3f rad, min manipulability %.4f, damped "
+        "cycles %llu, max speed %.1f mm/s, accel %.2f m/s^2, jerk %.0f m/s^3; adapter callbacks %llu, pipeline "
+        "errors %llu\n",
+        static_cast<unsigned long long>(report.cycles), static_cast<unsigned long long>(report.errors),
+        report.last_error.c_str(), report.min_joint_margin, report.min_manipulability,
+        static_cast<unsigned long long>(report.damped_cycles), report.max_speed * 1e3, report.max_accel,
+        report.max_jerk, static_cast<unsigned long long>(stats.callbacks),
+        static_cast<unsigned long long>(stats.pipeline_errors));
+    CHECK(run.status == Status::ok);
+    CHECK(report.errors == 0);
+    CHECK(stats.pipeline_errors == 0);
+    CHECK(trips_ == 0);
+    CHECK(run.rms_twist_gap <= 2.0);
+    CHECK(run.max_twist_gap <= 5.0);
+    CHECK(run.max_pose_gap <= 0.5);
+    CHECK(report.min_joint_margin > 0.0);
+    CHECK(report.damped_cycles == 0);
+  }
+
+ private:
+  static SE3d mount(const mujoco::World& world) {
+    const SE3d X_OE0 = flangeMm(panda::readyPose());
+    return SE3d(SO3d::fromMatrixUnchecked(X_OE0.rotationMatrix().transpose() * world.sensorPose(0).rotationMatrix()),
+                Vec3(0, 0, 100));
+  }
+  static FrankaAdapterOptions options(const std::string& address, const SE3d& X_ES, const SE3d& X_wO) {
+    FrankaAdapterOptions o;
+    o.robot_ip = address;
+    o.enforce_realtime = false;
+    o.X_ee_s = X_ES;
+    o.X_w_base = X_wO;
+    return o;
+  }
+  struct Remove {
+    std::string a;
+    ~Remove() { franka_sim::Arm::remove(a); }
+  };
+
+  std::string address_;
+  std::shared_ptr<franka_sim::Arm> arm_;
+  Remove remove_;
+  mujoco::World& world_;
+  int substeps_;
+  double h_;
+  SE3d X_ES_, X_wO_;
+  FrankaAdapter adapter_;
+  double max_pose_gap_ = 0;
+  long trips_ = 0, waiting_ = 0;  // periods ending with the watchdog tripped, or still arming
+};
+
+/// The curved ramp of the surface-following task (H = 40 mm, L = 200 mm; task_following.cpp)
+/// under a sensor pointing down (z_s = −z_w, y_s = +y_w) at 3 mm depth on its top, 30 mm before
+/// the curve.
+mujoco::FixtureSpec rampFixture(const ContactParams& contact) {
+  mujoco::FixtureSpec ramp;
+  ramp.name = "ramp";
+  ramp.shape = "ramp";
+  ramp.size = 40;
+  ramp.size2 = 200;
+  ramp.width = 80;
+  ramp.friction = contact.skin_friction;
+  return ramp;
+}
+
+mujoco::SceneSpec followingScene(const ContactParams& contact, double h) {
+  mujoco::SceneSpec scene;
+  scene.timestep = h;
+  scene.fixtures = {rampFixture(contact)};
+  const double y0 = -30, depth = lieservo::paper::kSurfaceFollowing.reference_pose[2];
+  mujoco::SensorSpec sensor;
+  sensor.tip_radius = contact.tip_radius;
+  sensor.gel_stiffness = contact.gel_stiffness;
+  sensor.gel_tangential_ratio = contact.gel_tangential_ratio;
+  sensor.initial_pose =
+      makePose(fromColumns(-Vec3::UnitX(), Vec3::UnitY(), -Vec3::UnitZ()),
+               Vec3(0, y0, mujoco::rampHeight(scene.fixtures[0], y0) + contact.tip_radius - depth));
+  scene.sensors = {sensor};
+  return scene;
+}
+
+/// Surface following along the ramp (Table 7's servo, 10 mm/s along +y) until the contact passes
+/// y = L + 30, with the depth error and tilt of the true contact every period (as the task).
+struct Following {
+  lieservo::TactileServoController<SE3d> servo{lieservo::surfaceFollowingPreset<double>()};
+  Stat depth_error, tilt;  // |depth − 3 mm| (mm), angle of z_s from the normal (deg)
+  bool contact_kept = true;
+
+  Following() {
+    REQUIRE(servo.configurationStatus() == Status::ok);
+    REQUIRE(servo.setFeedforward(lieservo::surfaceFollowingFeedforward<double>(lieservo::pi<double>() / 2)) ==
+            Status::ok);
+  }
+  Status operator()(const SE3d&, const SE3d& X_sf, const ContactState& c, SE3d::Tangent& u, bool& finished) {
+    depth_error.add(c.depth - lieservo::paper::kSurfaceFollowing.reference_pose[2]);
+    tilt.add(c.tilt * 180 / lieservo::pi<double>());
+    contact_kept = contact_kept && c.in_contact;
+    finished = c.point_w.y() > 230;  // L + 30
+    return servo.step(X_sf, kDt, u);
+  }
+};
+
 }  // namespace
+
+/// Single-arm pushing: Table 8's controller towards kTarget; the trial ends when it terminates.
+struct Pushing {
+  lieservo::PushingController<double> pusher;
+  Pushing() {
+    auto options = lieservo::pushingPreset<double>(lieservo::PushingConfiguration::single_arm);
+    options.target = SE3d(SO3d::identity(), kTarget);
+    pusher = lieservo::PushingController<double>(options);
+    REQUIRE(pusher.configurationStatus() == Status::ok);
+  }
+  Status operator()(const SE3d& X_ws, const SE3d& X_sf, const ContactState&, SE3d::Tangent& u, bool& finished) {
+    const Status s = pusher.step(X_ws, X_sf, kDt, u);
+    finished = pusher.terminated();
+    return s;
+  }
+};
 
 TEST_CASE("franka adapter on the double: single-arm pushing of the blue square on MDF", "[robot][franka][task]") {
   const ContactParams contact_params;
   const int substeps = stepsPerPeriod(kDt);  // 20 world steps of 2.5 ms per tactile period
   const double h = kDt / substeps;
+  constexpr double kTimeout = 120;
 
-  // 1. The driven-body run: the sensor body follows the controller's twist exactly (the tasks'
-  //    world, MujocoSensorArm).
-  PushOutcome driven;
+  // 1. The driven-body run: the sensor body follows the controller's twist exactly.
+  LoopOutcome driven;
+  Vec3 driven_object;
   {
     mujoco::World world(pushingScene(contact_params, h));
-    MujocoSensorArm body(world, 0);
-    SE3d::Tangent u_now = SE3d::Tangent::Zero();
-    driven = push(
-        world, contact_params,
-        [&](const SE3d::Tangent& u, bool) {
-          u_now = u;
-          return Status::ok;
-        },
-        [&] {
-          for (int j = 0; j < substeps; ++j) {
-            Status s = body.commandVelocity(u_now, h);
-            if (s == Status::ok) s = world.step(h);
-            if (s != Status::ok) return s;
-          }
-          return Status::ok;
-        },
-        [&](SE3d& X) { return body.readPose(X); });
+    DrivenBody robot(world, substeps, h);
+    driven = tactileLoop(
+        world, contact_params, kTimeout, Pushing(), [&](const SE3d::Tangent& u, bool c) { return robot.command(u, c); },
+        [&] { return robot.runPeriod(); }, [&](SE3d& X) { return robot.pose(X); });
+    driven_object = planar(world.objectPose(0));
   }
 
-  // 2. The same scene through the adapter. The Panda starts at its ready pose with the sensor
-  //    at the scene's start: the mount X_ES puts the tip 100 mm beyond the flange along its z,
-  //    turned so that the base stands upright (R_wO = 1), and the base goes where that puts it.
-  const std::string address = "sim-panda-pushing-task";
-  auto arm = franka_sim::Arm::create(address, panda::readyPose());
-  struct Remove {
-    std::string a;
-    ~Remove() { franka_sim::Arm::remove(a); }
-  } remove{address};
+  // 2. The same scene through the adapter on the double's Panda.
   mujoco::World world(pushingScene(contact_params, h));
-  const SE3d X_ws0 = world.sensorPose(0);
-  const SE3d X_OE0 = flangeMm(panda::readyPose());
-  const SE3d X_ES(SO3d::fromMatrixUnchecked(X_OE0.rotationMatrix().transpose() * X_ws0.rotationMatrix()),
-                  Vec3(0, 0, 100));
-  const SE3d X_wO = X_ws0 * (X_OE0 * X_ES).inverse();
-  REQUIRE((X_wO.rotationMatrix() - Eigen::Matrix3d::Identity()).norm() < 1e-12);
-  FrankaAdapterOptions options;
-  options.robot_ip = address;
-  options.enforce_realtime = false;
-  options.X_ee_s = X_ES;
-  options.X_w_base = X_wO;
-  FrankaAdapter adapter(options);
-  arm->setLockstep(true);
-
-  PushOutcome through;
-  double max_pose_gap = 0;
-  long trips = 0, waiting = 0;  // periods ending with the watchdog tripped, or still arming
-  const auto sensorOfArm = [&] { return X_wO * flangeMm(arm->joints()) * X_ES; };
-  through = push(
-      world, contact_params,
-      [&](const SE3d::Tangent& u, bool in_contact) { return adapter.commandVelocity(u, kDt, in_contact); },
-      [&] {
-        // The adapter starts its control loop on the first command: wait for it (≤ 2 s).
-        for (int i = 0; i < 2000 && !arm->inControl(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-        if (!arm->inControl()) return Status::device_error;
-        for (int j = 0; j < substeps; ++j) {
-          const int cycles = j % 2 == 0 ? 2 : 3;  // 50 cycles of 1 ms per 20 steps of 2.5 ms
-          if (arm->advance(cycles) != cycles) return Status::device_error;
-          // The world's sensor follows the flange: the body twist that takes it there in h.
-          const SE3d X_arm = sensorOfArm();
-          const SE3d X_world = world.sensorPose(0);
-          max_pose_gap = std::max(max_pose_gap, (X_arm.translation() - X_world.translation()).norm());
-          Status s = world.setSensorTwist(0, (X_world.inverse() * X_arm).log() / h);
-          if (s == Status::ok) s = world.step(h);
-          if (s != Status::ok) return s;
-        }
-        const auto state = adapter.stats().watchdog;
-        if (state == lieservo::realtime::WatchdogState::waiting) ++waiting;  // arming: 3 fresh commands
-        else if (state != lieservo::realtime::WatchdogState::active) ++trips;
-        return Status::ok;
-      },
-      [&](SE3d& X) { return adapter.readPose(X); });
-  through.max_pose_gap = max_pose_gap;
-  const auto stats = adapter.stats();
-  arm->setLockstep(false);  // the stop's ramp runs at wall-clock pace
-  adapter.stop();
-  const franka_sim::ArmReport report = arm->report();
-
+  AdapterRig rig("sim-panda-pushing-task", world, substeps, h);
+  LoopOutcome through = tactileLoop(
+      world, contact_params, kTimeout, Pushing(), [&](const SE3d::Tangent& u, bool c) { return rig.command(u, c); },
+      [&] { return rig.runPeriod(); }, [&](SE3d& X) { return rig.pose(X); });
+  const Vec3 object = planar(world.objectPose(0));
   std::printf(
-      "pushing through the adapter: %s after %.1f s (driven body: %s after %.1f s); object at (%.1f, %.1f) mm, "
-      "%.1f deg (driven body: (%.1f, %.1f) mm, %.1f deg)\n",
-      through.terminated ? "reached" : "NOT reached", through.time, driven.terminated ? "reached" : "NOT reached",
-      driven.time, through.object.x(), through.object.y(), through.object.z() * 180 / lieservo::pi<double>(),
-      driven.object.x(), driven.object.y(), driven.object.z() * 180 / lieservo::pi<double>());
-  std::printf(
-      "  achieved against commanded twist: rms %.3f mm/s, worst %.3f mm/s (driven body: rms %.3f); world sensor "
-      "against the arm's flange: %.4f mm; watchdog arming for %ld periods, tripped after %ld; %s%s\n",
-      through.rms_twist_gap, through.max_twist_gap, driven.rms_twist_gap, through.max_pose_gap, waiting, trips,
-      through.status == Status::ok ? "no error" : describe(through.status), through.where.c_str());
-  std::printf(
-      "  the double: %llu cycles, %llu errors %s; min joint margin %.3f rad, min manipulability %.4f, damped "
-      "cycles %llu, max speed %.1f mm/s, accel %.2f m/s^2, jerk %.0f m/s^3; adapter callbacks %llu, pipeline "
-      "errors %llu\n",
-      static_cast<unsigned long long>(report.cycles), static_cast<unsigned long long>(report.errors),
-      report.last_error.c_str(), report.min_joint_margin, report.min_manipulability,
-      static_cast<unsigned long long>(report.damped_cycles), report.max_speed * 1e3, report.max_accel,
-      report.max_jerk, static_cast<unsigned long long>(stats.callbacks),
-      static_cast<unsigned long long>(stats.pipeline_errors));
+      "pushing: %s after %.1f s through the adapter (driven body: %s after %.1f s); object at (%.1f, %.1f) mm, "
+      "%.1f deg (driven body: (%.1f, %.1f) mm, %.1f deg); driven body's twist gap rms %.3f mm/s\n",
+      through.finished ? "reached" : "NOT reached", through.time, driven.finished ? "reached" : "NOT reached",
+      driven.time, object.x(), object.y(), object.z() * 180 / lieservo::pi<double>(), driven_object.x(),
+      driven_object.y(), driven_object.z() * 180 / lieservo::pi<double>(), driven.rms_twist_gap);
+  rig.finishAndCheck("pushing", through);
 
-  // Bounds, written before the first run:
+  // Bounds, written before the first run (the adapter's own in finishAndCheck):
   // - both runs reach the target (the controller's termination: the tip within 20 mm) within
-  //   120 s, without an error anywhere (double, adapter, pipeline, watchdog);
-  CHECK(driven.terminated);
-  CHECK(through.terminated);
-  CHECK(through.status == Status::ok);
-  CHECK(report.errors == 0);
-  CHECK(stats.pipeline_errors == 0);
-  CHECK(trips == 0);
-  // - the arm does what the controller commanded: after the watchdog has armed, the translation
-  //   achieved over each period within 2 mm/s rms (5 mm/s worst) of the command (the smoother's
-  //   lag at the push's 10-25 mm/s), and the world's sensor within 0.5 mm of the flange's mount;
-  CHECK(through.rms_twist_gap <= 2.0);
-  CHECK(through.max_twist_gap <= 5.0);
-  CHECK(through.max_pose_gap <= 0.5);
-  // - the arm stays inside its joint limits and away from singularities;
-  CHECK(report.min_joint_margin > 0.0);
-  CHECK(report.damped_cycles == 0);
+  //   120 s;
+  CHECK(driven.finished);
+  CHECK(driven.status == Status::ok);
+  CHECK(through.finished);
   // - the object ends where the driven-body run leaves it, within 30 mm (the two runs differ by
   //   the smoother and the arm's 1 kHz steps, and pushing amplifies small differences).
-  CHECK((through.object.head<2>() - driven.object.head<2>()).norm() <= 30.0);
+  CHECK((object.head<2>() - driven_object.head<2>()).norm() <= 30.0);
+}
+
+TEST_CASE("franka adapter on the double: surface following on the curved ramp", "[robot][franka][task]") {
+  const ContactParams contact_params;
+  const int substeps = stepsPerPeriod(kDt);
+  const double h = kDt / substeps;
+  constexpr double kTimeout = 1.6 * 260 / 10;  // the task's: 1.6 × the path at 10 mm/s
+
+  // 1. The driven-body run (the task's world).
+  Following driven;
+  LoopOutcome driven_run;
+  {
+    mujoco::World world(followingScene(contact_params, h));
+    DrivenBody robot(world, substeps, h);
+    driven_run = tactileLoop(
+        world, contact_params, kTimeout, std::ref(driven),
+        [&](const SE3d::Tangent& u, bool c) { return robot.command(u, c); }, [&] { return robot.runPeriod(); },
+        [&](SE3d& X) { return robot.pose(X); });
+  }
+  driven.depth_error.finish();
+  driven.tilt.finish();
+
+  // 2. The same path through the adapter on the double's Panda.
+  mujoco::World world(followingScene(contact_params, h));
+  AdapterRig rig("sim-panda-following-task", world, substeps, h);
+  Following through;
+  LoopOutcome run = tactileLoop(
+      world, contact_params, kTimeout, std::ref(through),
+      [&](const SE3d::Tangent& u, bool c) { return rig.command(u, c); }, [&] { return rig.runPeriod(); },
+      [&](SE3d& X) { return rig.pose(X); });
+  through.depth_error.finish();
+  through.tilt.finish();
+  std::printf(
+      "following the ramp: %s after %.1f s through the adapter (driven body: %s after %.1f s); depth error mean %.2f "
+      "/ max %.2f mm, tilt mean %.2f / max %.2f deg (driven body: %.2f / %.2f mm, %.2f / %.2f deg)\n",
+      run.finished ? "reached the end" : "did NOT reach the end", run.time,
+      driven_run.finished ? "reached the end" : "did NOT reach the end", driven_run.time, through.depth_error.mean,
+      through.depth_error.max, through.tilt.mean, through.tilt.max, driven.depth_error.mean, driven.depth_error.max,
+      driven.tilt.mean, driven.tilt.max);
+  rig.finishAndCheck("following", run);
+
+  // Bounds, written before the first run (the adapter's own in finishAndCheck): both runs reach
+  // the end of the path with contact kept and within the surface-following task's bounds
+  // (Bounds::following_*: depth error mean 0.5 / max 2.5 mm, tilt mean 3 / max 10 deg).
+  for (const auto* f : {&driven, &through}) {
+    CHECK(f->contact_kept);
+    CHECK(f->depth_error.mean <= Bounds::following_depth_mean);
+    CHECK(f->depth_error.max <= Bounds::following_depth_max);
+    CHECK(f->tilt.mean <= Bounds::following_tilt_mean);
+    CHECK(f->tilt.max <= Bounds::following_tilt_max);
+  }
+  CHECK(driven_run.finished);
+  CHECK(driven_run.status == Status::ok);
+  CHECK(run.finished);
 }
