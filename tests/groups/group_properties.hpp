@@ -447,6 +447,27 @@ void checkCheckedConstruction() {
   G keep = sentinel;
   CHECK(G::fromMatrixProjected(zero, keep) == lieservo::Status::invalid_argument);
   CHECK(matDiff(keep, sentinel) == 0.0);
+
+  // SE(n): each entry of the bottom row (0, …, 0, 1) is checked within the tolerance, by both
+  // fromMatrix and fromMatrixProjected, the state unchanged on a refusal.
+  if constexpr (M::RowsAtCompileTime == G::Dim + 1) {
+    const S tol = S(1e-3);
+    for (int j = 0; j <= G::Dim; ++j) {
+      INFO("bottom row entry " << j);
+      M row = X.matrix();
+      row(G::Dim, j) += S(0.5) * tol;
+      G near = sentinel;
+      CHECK(G::fromMatrix(row, near, tol) == lieservo::Status::ok);
+      CHECK(matDiff(near, X) == 0.0);
+      row(G::Dim, j) += tol;
+      keep = sentinel;
+      CHECK(G::fromMatrix(row, keep, tol) == lieservo::Status::invalid_argument);
+      row(G::Dim, j) += S(1e-2);
+      CHECK(G::fromMatrix(row, keep) == lieservo::Status::invalid_argument);
+      CHECK(G::fromMatrixProjected(row, keep) == lieservo::Status::invalid_argument);
+      CHECK(matDiff(keep, sentinel) == 0.0);
+    }
+  }
 }
 
 /// Seeded sampling is reproducible; cast round trip; isApprox/allFinite.

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 
 #include <lieservo/groups/detail/coefficients.hpp>
+#include <lieservo/groups/detail/generic.hpp>
 #include <lieservo/groups/so2.hpp>
 
 namespace lieservo {
@@ -166,24 +167,12 @@ class SE2 {
   /// Checked: non_finite_input; the rotation block as SO2::fromMatrix; invalid_argument unless
   /// the bottom row is (0, 0, 1) within tol. `out` is written only when ok.
   static Status fromMatrix(const Matrix& m, SE2& out, Scalar tol) noexcept {
-    if (!m.allFinite()) return Status::non_finite_input;
-    SO2Type R;
-    const Status s = SO2Type::fromMatrix(m.template topLeftCorner<2, 2>(), R, tol);
-    if (s != Status::ok) return s;
-    if (!bottomRowOk(m, tol)) return Status::invalid_argument;
-    out = SE2(R, m.template topRightCorner<2, 1>());
-    return Status::ok;
+    return detail::rigidFromMatrix<SE2, SO2Type>(m, false, tol, out);
   }
   /// The nearest rotation (SO2::fromMatrixProjected) with m's translation; the bottom row
   /// checked as in fromMatrix. `out` is written only when ok.
   static Status fromMatrixProjected(const Matrix& m, SE2& out) noexcept {
-    if (!m.allFinite()) return Status::non_finite_input;
-    SO2Type R;
-    const Status s = SO2Type::fromMatrixProjected(m.template topLeftCorner<2, 2>(), R);
-    if (s != Status::ok) return s;
-    if (!bottomRowOk(m, SO2Type::defaultTolerance())) return Status::invalid_argument;
-    out = SE2(R, m.template topRightCorner<2, 1>());
-    return Status::ok;
+    return detail::rigidFromMatrix<SE2, SO2Type>(m, true, SO2Type::defaultTolerance(), out);
   }
   /// Re-normalises the rotation (after long chains of compositions).
   void normalize() noexcept { R_.normalize(); }
@@ -245,11 +234,6 @@ class SE2 {
     J(2, 2) = Scalar(1);
     return J;
   }
-  static bool bottomRowOk(const Matrix& m, Scalar tol) {
-    using std::abs;
-    return abs(m(2, 0)) <= tol && abs(m(2, 1)) <= tol && abs(m(2, 2) - Scalar(1)) <= tol;
-  }
-
   SO2Type R_;
   Vector2 t_;
 };

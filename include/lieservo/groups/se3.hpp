@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <lieservo/groups/detail/generic.hpp>
 #include <lieservo/groups/so3.hpp>
 
 namespace lieservo {
@@ -259,23 +260,11 @@ class SE3 {
   static Status fromMatrix(const Matrix& M, SE3& out) noexcept { return fromMatrix(M, out, SO3Type::defaultTolerance()); }
   /// As the overload above, with the tolerance given.
   static Status fromMatrix(const Matrix& M, SE3& out, Scalar tol) noexcept {
-    if (!M.allFinite()) return Status::non_finite_input;
-    SO3Type C;
-    const Status s = SO3Type::fromMatrix(M.template topLeftCorner<3, 3>(), C, tol);
-    if (s != Status::ok) return s;
-    if (!bottomRowOk(M, tol)) return Status::invalid_argument;
-    out = SE3(C, M.template topRightCorner<3, 1>());
-    return Status::ok;
+    return detail::rigidFromMatrix<SE3, SO3Type>(M, false, tol, out);
   }
   /// Projects the rotation block to the nearest rotation (SO3::fromMatrixProjected).
   static Status fromMatrixProjected(const Matrix& M, SE3& out) noexcept {
-    if (!M.allFinite()) return Status::non_finite_input;
-    SO3Type C;
-    const Status s = SO3Type::fromMatrixProjected(M.template topLeftCorner<3, 3>(), C);
-    if (s != Status::ok) return s;
-    if (!bottomRowOk(M, SO3Type::defaultTolerance())) return Status::invalid_argument;
-    out = SE3(C, M.template topRightCorner<3, 1>());
-    return Status::ok;
+    return detail::rigidFromMatrix<SE3, SO3Type>(M, true, SO3Type::defaultTolerance(), out);
   }
   /// Re-orthonormalises the rotation (SO3::normalize), after long chains of compositions.
   void normalize() noexcept { C_.normalize(); }
@@ -372,11 +361,6 @@ class SE3 {
     J.template bottomRightCorner<3, 3>() = Ji;
     return J;
   }
-  static bool bottomRowOk(const Matrix& M, Scalar tol) {
-    using std::abs;
-    return abs(M(3, 0)) <= tol && abs(M(3, 1)) <= tol && abs(M(3, 2)) <= tol && abs(M(3, 3) - Scalar(1)) <= tol;
-  }
-
   SO3Type C_;
   Vector3 r_;
 };

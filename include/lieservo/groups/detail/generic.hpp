@@ -8,9 +8,33 @@
 #include <Eigen/Core>
 
 #include <lieservo/groups/detail/series.hpp>
+#include <lieservo/status.hpp>
 
 namespace lieservo {
 namespace detail {
+
+/// The rigid motion (SE(2) or SE(3)) of a homogeneous matrix M, the checks of both groups'
+/// fromMatrix and fromMatrixProjected: non_finite_input; then the rotation block's status from
+/// Rotation::fromMatrix at tol, or from Rotation::fromMatrixProjected when `projected`; then
+/// invalid_argument unless the bottom row is (0, …, 0, 1) within tol. `out` is written only
+/// when ok.
+template <class Rigid, class Rotation>
+Status rigidFromMatrix(const typename Rigid::Matrix& M, bool projected, typename Rigid::Scalar tol,
+                       Rigid& out) noexcept {
+  constexpr int n = Rigid::Dim;
+  using Scalar = typename Rigid::Scalar;
+  using std::abs;
+  if (!M.allFinite()) return Status::non_finite_input;
+  const typename Rotation::Matrix block = M.template topLeftCorner<n, n>();
+  Rotation R;
+  const Status s = projected ? Rotation::fromMatrixProjected(block, R) : Rotation::fromMatrix(block, R, tol);
+  if (s != Status::ok) return s;
+  for (int j = 0; j < n; ++j)
+    if (!(abs(M(n, j)) <= tol)) return Status::invalid_argument;
+  if (!(abs(M(n, n) - Scalar(1)) <= tol)) return Status::invalid_argument;
+  out = Rigid(R, M.template topRightCorner<n, 1>());
+  return Status::ok;
+}
 
 /// Truncated inverse-Jacobian series Σ_{n=0}^{N} (B_n/n!) (ξ⋏)^n (eq. 34, eqn:inv_jacobian_def),
 /// evaluated by Horner's rule in ad(ξ). Converges for |θ| < 2π.
