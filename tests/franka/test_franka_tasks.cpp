@@ -287,24 +287,13 @@ class AdapterRig {
   long trips_ = 0, waiting_ = 0;  // periods ending with the watchdog tripped, or still arming
 };
 
-/// The curved ramp of the surface-following task (H = 40 mm, L = 200 mm; task_following.cpp)
-/// under a sensor pointing down (z_s = −z_w, y_s = +y_w) at 3 mm depth on its top, 30 mm before
-/// the curve.
-mujoco::FixtureSpec rampFixture(const ContactParams& contact) {
-  mujoco::FixtureSpec ramp;
-  ramp.name = "ramp";
-  ramp.shape = "ramp";
-  ramp.size = 40;
-  ramp.size2 = 200;
-  ramp.width = 80;
-  ramp.friction = contact.skin_friction;
-  return ramp;
-}
-
+/// The following task's ramp (followingRamp) under a sensor pointing down (z_s = −z_w,
+/// y_s = +y_w) at 3 mm depth, 30 mm before the curve, as the task starts it.
 mujoco::SceneSpec followingScene(const ContactParams& contact, double h) {
   mujoco::SceneSpec scene;
   scene.timestep = h;
-  scene.fixtures = {rampFixture(contact)};
+  scene.fixtures = {followingRamp()};
+  scene.fixtures[0].friction = contact.skin_friction;
   const double y0 = -30, depth = lieservo::paper::kSurfaceFollowing.reference_pose[2];
   mujoco::SensorSpec sensor;
   sensor.tip_radius = contact.tip_radius;
@@ -333,7 +322,7 @@ struct Following {
     depth_error.add(c.depth - lieservo::paper::kSurfaceFollowing.reference_pose[2]);
     tilt.add(c.tilt * 180 / lieservo::pi<double>());
     contact_kept = contact_kept && c.in_contact;
-    finished = c.point_w.y() > 230;  // L + 30
+    finished = c.point_w.y() > followingRamp().size2 + 30;
     return servo.step(X_sf, kDt, u);
   }
 };
@@ -404,7 +393,7 @@ TEST_CASE("franka adapter on the double: surface following on the curved ramp", 
   const ContactParams contact_params;
   const int substeps = stepsPerPeriod(kDt);
   const double h = kDt / substeps;
-  constexpr double kTimeout = 1.6 * 260 / 10;  // the task's: 1.6 × the path at 10 mm/s
+  const double timeout = 1.6 * (followingRamp().size2 + 60) / 10;  // the task's: 1.6 × the path at 10 mm/s
 
   // 1. The driven-body run (the task's world).
   Following driven;
@@ -413,7 +402,7 @@ TEST_CASE("franka adapter on the double: surface following on the curved ramp", 
     mujoco::World world(followingScene(contact_params, h));
     DrivenBody robot(world, substeps, h);
     driven_run = tactileLoop(
-        world, contact_params, kTimeout, std::ref(driven),
+        world, contact_params, timeout, std::ref(driven),
         [&](const SE3d::Tangent& u, bool c) { return robot.command(u, c); }, [&] { return robot.runPeriod(); },
         [&](SE3d& X) { return robot.pose(X); });
   }
@@ -425,7 +414,7 @@ TEST_CASE("franka adapter on the double: surface following on the curved ramp", 
   AdapterRig rig("sim-panda-following-task", world, substeps, h);
   Following through;
   LoopOutcome run = tactileLoop(
-      world, contact_params, kTimeout, std::ref(through),
+      world, contact_params, timeout, std::ref(through),
       [&](const SE3d::Tangent& u, bool c) { return rig.command(u, c); }, [&] { return rig.runPeriod(); },
       [&](SE3d& X) { return rig.pose(X); });
   through.depth_error.finish();

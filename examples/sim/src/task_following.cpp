@@ -129,6 +129,16 @@ mujoco::SceneSpec followingScene(const mujoco::FixtureSpec& fixture, const SE3d&
 
 }  // namespace
 
+mujoco::FixtureSpec followingRamp() {
+  mujoco::FixtureSpec ramp;
+  ramp.name = "ramp";
+  ramp.shape = "ramp";
+  ramp.size = 40;    // H
+  ramp.size2 = 200;  // L
+  ramp.width = 80;
+  return ramp;
+}
+
 FollowingResult runSurfaceFollowing(const TaskOptions& opt) {
   opt.validate();
   using detail::EngineArm;
@@ -150,12 +160,7 @@ FollowingResult runSurfaceFollowing(const TaskOptions& opt) {
   double t_global = 0;
 
   // ---- curved ramp ----
-  mujoco::FixtureSpec ramp;
-  ramp.name = "ramp";
-  ramp.shape = "ramp";
-  ramp.size = 40;    // H
-  ramp.size2 = 200;  // L
-  ramp.width = 80;
+  const mujoco::FixtureSpec ramp = followingRamp();
   PathLog ramp_log;
   {
     const double y0 = -30;

@@ -122,6 +122,9 @@ struct FollowingResult {
   double sim_time = 0;
 };
 FollowingResult runSurfaceFollowing(const TaskOptions& opt);
+/// The curved ramp of the following task (H = 40 mm, L = 200 mm, 80 mm wide); the path starts
+/// 30 mm before it (y = −30) and ends when the contact passes y = L + 30.
+mujoco::FixtureSpec followingRamp();
 
 // ---- (c, d) pushing, on MuJoCo (mujoco_world.hpp) -------------------------------------------
 using mujoco::ObjectSpec;
