@@ -58,12 +58,7 @@ mujoco::SceneSpec pushingScene(const ContactParams& contact, double h) {
   square.x = kStart.x() + contact.tip_radius - 1.0 + mujoco::halfExtentX(square);
   square.y = kStart.y();
   scene.objects = {square};
-  mujoco::SensorSpec sensor;
-  sensor.tip_radius = contact.tip_radius;
-  sensor.gel_stiffness = contact.gel_stiffness;
-  sensor.gel_tangential_ratio = contact.gel_tangential_ratio;
-  sensor.initial_pose = makePose(fromColumns(-Vec3::UnitZ(), Vec3::UnitY(), Vec3::UnitX()), kStart);
-  scene.sensors = {sensor};
+  scene.sensors = {taskSensor("sensor", contact, makePose(fromColumns(-Vec3::UnitZ(), Vec3::UnitY(), Vec3::UnitX()), kStart))};
   return scene;
 }
 
@@ -295,14 +290,9 @@ mujoco::SceneSpec followingScene(const ContactParams& contact, double h) {
   scene.fixtures = {followingRamp()};
   scene.fixtures[0].friction = contact.skin_friction;
   const double y0 = -30, depth = lieservo::paper::kSurfaceFollowing.reference_pose[2];
-  mujoco::SensorSpec sensor;
-  sensor.tip_radius = contact.tip_radius;
-  sensor.gel_stiffness = contact.gel_stiffness;
-  sensor.gel_tangential_ratio = contact.gel_tangential_ratio;
-  sensor.initial_pose =
-      makePose(fromColumns(-Vec3::UnitX(), Vec3::UnitY(), -Vec3::UnitZ()),
-               Vec3(0, y0, mujoco::rampHeight(scene.fixtures[0], y0) + contact.tip_radius - depth));
-  scene.sensors = {sensor};
+  scene.sensors = {taskSensor("sensor", contact,
+                              makePose(fromColumns(-Vec3::UnitX(), Vec3::UnitY(), -Vec3::UnitZ()),
+                                       Vec3(0, y0, mujoco::rampHeight(scene.fixtures[0], y0) + contact.tip_radius - depth)))};
   return scene;
 }
 
@@ -327,8 +317,6 @@ struct Following {
   }
 };
 
-}  // namespace
-
 /// Single-arm pushing: Table 8's controller towards kTarget; the trial ends when it terminates.
 struct Pushing {
   lieservo::PushingController<double> pusher;
@@ -344,6 +332,8 @@ struct Pushing {
     return s;
   }
 };
+
+}  // namespace
 
 TEST_CASE("franka adapter on the double: single-arm pushing of the blue square on MDF", "[robot][franka][task]") {
   const ContactParams contact_params;

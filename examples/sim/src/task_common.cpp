@@ -8,6 +8,16 @@
 
 namespace lieservo::sim {
 
+mujoco::SensorSpec taskSensor(const std::string& name, const ContactParams& contact, const SE3d& X_ws) {
+  mujoco::SensorSpec s;
+  s.name = name;
+  s.tip_radius = contact.tip_radius;
+  s.gel_stiffness = contact.gel_stiffness;
+  s.gel_tangential_ratio = contact.gel_tangential_ratio;
+  s.initial_pose = X_ws;
+  return s;
+}
+
 void PhysicalRanges::validate() const {
   auto range = [](const double (&r)[2], const char* name) {
     requirePositive(r[0], name);

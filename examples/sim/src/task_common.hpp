@@ -51,18 +51,6 @@ inline Status senseContact(ObservationSource& gdn, const ContactState& state, Fi
   return Status::ok;
 }
 
-/// A TacTip sensor of the scene at X_ws with the gel of `contact` (one contact truth: the
-/// engine's gel and the ContactModel's slip law share k_gel, ρ_t and μ_c).
-inline mujoco::SensorSpec sensorSpec(const std::string& name, const ContactParams& contact, const SE3d& X_ws) {
-  mujoco::SensorSpec s;
-  s.name = name;
-  s.tip_radius = contact.tip_radius;
-  s.gel_stiffness = contact.gel_stiffness;
-  s.gel_tangential_ratio = contact.gel_tangential_ratio;
-  s.initial_pose = X_ws;
-  return s;
-}
-
 /// One sensorised arm in the MuJoCo world: the arm, the tactile contact state, its
 /// observations (TaskOptions::observations, or its own seeded Gaussian model) and the Bayes
 /// filter.

@@ -123,7 +123,7 @@ mujoco::SceneSpec followingScene(const mujoco::FixtureSpec& fixture, const SE3d&
   scene.timestep = taskTimestep(1.0 / opt.control_rate);
   scene.fixtures = {fixture};
   scene.fixtures[0].friction = opt.contact.skin_friction;
-  scene.sensors = {detail::sensorSpec("sensor", opt.contact, X_ws0)};
+  scene.sensors = {taskSensor("sensor", opt.contact, X_ws0)};
   return scene;
 }
 

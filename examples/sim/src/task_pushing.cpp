@@ -94,12 +94,12 @@ PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& options, st
   // each sensor along ±x_s against its sticking contact: the leader's +0.5 mm presses the
   // pushed side down, the follower's −0.5 mm the stabilised side up.
   const Mat3 R_leader = fromColumns(-Vec3::UnitZ(), Vec3::UnitY(), Vec3::UnitX());
-  scene.sensors = {detail::sensorSpec("leader", opt.contact, makePose(R_leader, Vec3(setup.start.x(), setup.start.y(), H)))};
+  scene.sensors = {taskSensor("leader", opt.contact, makePose(R_leader, Vec3(setup.start.x(), setup.start.y(), H)))};
   if (setup.dual_arm) {
     // Opposite, along the line through the object's centre, normal to the far face; x_s down.
     const Mat3 Ro = rotZ(obj.yaw);
     const Vec3 dir = -Ro.col(0);  // sensor axis: into the far face
-    scene.sensors.push_back(detail::sensorSpec(
+    scene.sensors.push_back(taskSensor(
         "follower", opt.contact,
         makePose(fromColumns(-Vec3::UnitZ(), -dir.cross(Vec3::UnitZ()), dir),
                  Vec3(obj.x, obj.y, H) + Ro.col(0) * (a + R - setup.follower_depth))));

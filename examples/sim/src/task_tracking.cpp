@@ -81,7 +81,7 @@ TrackingResult runObjectTracking(const TaskOptions& opt) {
   plate.friction = opt.contact.skin_friction;
   scene.fixtures = {plate};
   // Follower: z_s = −z_w, x_s = x_w, y_s = −y_w, tip centre R − 6 mm above the plate.
-  scene.sensors = {detail::sensorSpec(
+  scene.sensors = {taskSensor(
       "follower", opt.contact,
       makePose(fromColumns(Vec3::UnitX(), -Vec3::UnitY(), -Vec3::UnitZ()), Vec3(0, 0, R - ref_depth)))};
   mujoco::World world(scene);

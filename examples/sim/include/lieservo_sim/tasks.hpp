@@ -46,6 +46,10 @@ inline int stepsPerPeriod(double dt) { return std::max(1, int(std::lround(dt / k
 /// The step the tasks run at control period dt: dt / stepsPerPeriod(dt).
 inline double taskTimestep(double dt) { return dt / stepsPerPeriod(dt); }
 
+/// A TacTip sensor of a task's scene, named `name`, at X_ws, with the gel of `contact` (one
+/// contact truth: the engine's gel and the ContactModel's slip law share k_gel, ρ_t and μ_c).
+mujoco::SensorSpec taskSensor(const std::string& name, const ContactParams& contact, const SE3d& X_ws);
+
 /// The ranges (uniform draws, per pushing trial) of the physical parameters that are assumed
 /// rather than measured (docs/simulation.md, "What is assumed").
 struct PhysicalRanges {
