@@ -8,6 +8,7 @@
 
 #include <lieservo/groups/detail/coefficients.hpp>
 #include <lieservo/groups/detail/generic.hpp>
+#include <lieservo/groups/lie_group_base.hpp>
 #include <lieservo/groups/so2.hpp>
 
 namespace lieservo {
@@ -15,7 +16,7 @@ namespace lieservo {
 template <typename Scalar_>
 /// SE(2): a planar rigid motion (rotation R, translation t). The tangent is ξ = [ρ; θ],
 /// translation first (docs/conventions.md); left perturbation X = exp(ε^) X̄.
-class SE2 {
+class SE2 : public LieGroupBase<SE2<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eigen::Matrix<Scalar_, 3, 3>> {
  public:
   using Scalar = Scalar_;  ///< float, double or long double
   using Real = detail::RealOf<Scalar>;  ///< the real type behind Scalar
@@ -109,15 +110,6 @@ class SE2 {
     const detail::AngleTerms<Scalar> t(th * th);
     return leftJacobianInverseWith(xi, t);
   }
-  template <int N>
-  /// The Bernoulli series of J⁻¹ to order N (eq. 34, eqn:inv_jacobian_def).
-  static Jacobian leftJacobianInverseSeries(const Tangent& xi) {
-    return detail::inverseJacobianSeries<SE2, N>(xi);
-  }
-  /// Right Jacobian: J_r(ξ) = J(−ξ).
-  static Jacobian rightJacobian(const Tangent& xi) { return leftJacobian(-xi); }
-  /// J_r(ξ)⁻¹ = J(−ξ)⁻¹.
-  static Jacobian rightJacobianInverse(const Tangent& xi) { return leftJacobianInverse(-xi); }
   /// exp(ξ), and J(ξ) into J, sharing the trigonometric terms.
   static SE2 expAndLeftJacobian(const Tangent& xi, Jacobian& J) {
     const Scalar th = xi(2);
@@ -135,16 +127,6 @@ class SE2 {
     Jinv = leftJacobianInverseWith(xi, t);
     return xi;
   }
-  /// ln(exp(ξ1^) exp(ξ2^))^∨ to first order in a small ξ1: J(ξ2)⁻¹ ξ1 + ξ2.
-  static Tangent bchLeftSmall(const Tangent& xi1_small, const Tangent& xi2) {
-    return leftJacobianInverse(xi2) * xi1_small + xi2;
-  }
-  /// ln(exp(ξ1^) exp(ξ2^))^∨ to first order in a small ξ2: ξ1 + J(−ξ1)⁻¹ ξ2.
-  static Tangent bchRightSmall(const Tangent& xi1, const Tangent& xi2_small) {
-    return xi1 + leftJacobianInverse(-xi1) * xi2_small;
-  }
-  /// The geodesic from *this (t = 0) to other (t = 1).
-  SE2 interpolate(const SE2& other, Scalar t) const { return *this * exp(t * (inverse() * other).log()); }
 
   /// The homogeneous matrix [[R, t], [0ᵀ, 1]].
   Matrix matrix() const {

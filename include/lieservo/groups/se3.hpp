@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include <lieservo/groups/detail/generic.hpp>
+#include <lieservo/groups/lie_group_base.hpp>
 #include <lieservo/groups/so3.hpp>
 
 namespace lieservo {
@@ -22,7 +23,7 @@ namespace lieservo {
 template <typename Scalar_>
 /// SE(3): a rigid motion X = [[C, r], [0ᵀ, 1]] (eq. 26, eqn:se3_matrix_def). The tangent is
 /// ξ = [ρ; φ], translation first; left perturbation X = exp(ε^) X̄ (docs/conventions.md).
-class SE3 {
+class SE3 : public LieGroupBase<SE3<Scalar_>, Eigen::Matrix<Scalar_, 6, 1>, Eigen::Matrix<Scalar_, 6, 6>> {
  public:
   using Scalar = Scalar_;  ///< float, double or long double
   using Real = detail::RealOf<Scalar>;  ///< the real type behind Scalar
@@ -144,6 +145,7 @@ class SE3 {
     return leftJacobianInverseWith(rho, phi, t);
   }
   /// Truncated series Σ_{n=0}^{N} B_n/n! (ξ⋏)^n (eq. 34, eqn:inv_jacobian_def); N = 2 is the paper's.
+  /// Written out block by block (it hides LieGroupBase's generic 6 × 6 Horner form).
   template <int N>
   static Jacobian leftJacobianInverseSeries(const Tangent& xi) {
     constexpr detail::BernoulliTable<N> c;
@@ -195,11 +197,6 @@ class SE3 {
     }
     return Jinv;
   }
-  /// Right Jacobian: Jr(ξ) = J(−ξ).
-  static Jacobian rightJacobian(const Tangent& xi) { return leftJacobian(-xi); }
-  /// Jr(ξ)⁻¹ = J(−ξ)⁻¹.
-  static Jacobian rightJacobianInverse(const Tangent& xi) { return leftJacobianInverse(-xi); }
-
   /// exp(ξ), and J(ξ) into J, sharing the trigonometric work.
   static SE3 expAndLeftJacobian(const Tangent& xi, Jacobian& J) {
     const Vector3 rho = xi.template head<3>(), phi = xi.template tail<3>();
@@ -222,19 +219,6 @@ class SE3 {
     xi.template tail<3>() = phi;
     return xi;
   }
-
-  // ---- BCH (eq. 32, eqn:bch_approx) ----------------------------------------------------------------
-  /// ln(exp(ξ1^) exp(ξ2^))^∨ to first order in a small ξ1: J(ξ2)⁻¹ ξ1 + ξ2 (eq. 32, eqn:bch_approx).
-  static Tangent bchLeftSmall(const Tangent& xi1_small, const Tangent& xi2) {
-    return leftJacobianInverse(xi2) * xi1_small + xi2;
-  }
-  /// ln(exp(ξ1^) exp(ξ2^))^∨ to first order in a small ξ2: ξ1 + J(−ξ1)⁻¹ ξ2.
-  static Tangent bchRightSmall(const Tangent& xi1, const Tangent& xi2_small) {
-    return xi1 + leftJacobianInverse(-xi1) * xi2_small;
-  }
-
-  /// The geodesic from *this (t = 0) to other (t = 1): *this · exp(t · log(this⁻¹ · other)).
-  SE3 interpolate(const SE3& other, Scalar t) const { return *this * exp(t * (inverse() * other).log()); }
 
   // ---- matrices and construction -----------------------------------------------------------
   /// The homogeneous matrix [[C, r], [0ᵀ, 1]].

@@ -11,13 +11,14 @@
 #include <lieservo/units.hpp>
 #include <lieservo/groups/detail/generic.hpp>
 #include <lieservo/groups/detail/series.hpp>
+#include <lieservo/groups/lie_group_base.hpp>
 
 namespace lieservo {
 
 /// SO(2): a planar rotation, stored as the unit complex number (cos θ, sin θ). The tangent is
 /// θ in radians; the group is abelian, so Ad = 1, ad = 0 and every Jacobian is 1.
 template <typename Scalar_>
-class SO2 {
+class SO2 : public LieGroupBase<SO2<Scalar_>, Eigen::Matrix<Scalar_, 1, 1>, Eigen::Matrix<Scalar_, 1, 1>> {
  public:
   using Scalar = Scalar_;                      ///< float, double or long double
   using Real = detail::RealOf<Scalar>;         ///< the real type behind Scalar
@@ -73,13 +74,6 @@ class SO2 {
   static Jacobian ad(const Tangent&) { return Jacobian::Zero(); }              ///< ad(θ) = 0
   static Jacobian leftJacobian(const Tangent&) { return Jacobian::Identity(); }  ///< J(θ) = 1
   static Jacobian leftJacobianInverse(const Tangent&) { return Jacobian::Identity(); }  ///< J(θ)⁻¹ = 1
-  /// The Bernoulli series of J⁻¹ to order N (eq. 34, eqn:inv_jacobian_def): 1 here.
-  template <int N>
-  static Jacobian leftJacobianInverseSeries(const Tangent& t) {
-    return detail::inverseJacobianSeries<SO2, N>(t);
-  }
-  static Jacobian rightJacobian(const Tangent&) { return Jacobian::Identity(); }  ///< J_r(θ) = 1
-  static Jacobian rightJacobianInverse(const Tangent&) { return Jacobian::Identity(); }  ///< J_r(θ)⁻¹ = 1
   /// exp(θ), and J(θ) = 1 into J.
   static SO2 expAndLeftJacobian(const Tangent& t, Jacobian& J) {
     J.setIdentity();
@@ -90,12 +84,6 @@ class SO2 {
     Jinv.setIdentity();
     return log();
   }
-  /// ln(exp(ξ1^) exp(ξ2^))^∨ with ξ1 small: ξ1 + ξ2, exactly (the group is abelian).
-  static Tangent bchLeftSmall(const Tangent& xi1_small, const Tangent& xi2) { return xi1_small + xi2; }
-  /// ln(exp(ξ1^) exp(ξ2^))^∨ with ξ2 small: ξ1 + ξ2, exactly.
-  static Tangent bchRightSmall(const Tangent& xi1, const Tangent& xi2_small) { return xi1 + xi2_small; }
-  /// The geodesic from *this (t = 0) to other (t = 1).
-  SO2 interpolate(const SO2& other, Scalar t) const { return *this * exp(t * (inverse() * other).log()); }
 
   /// The rotation matrix.
   Matrix matrix() const {

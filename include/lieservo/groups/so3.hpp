@@ -15,6 +15,7 @@
 #include <lieservo/units.hpp>
 #include <lieservo/groups/detail/coefficients.hpp>
 #include <lieservo/groups/detail/generic.hpp>
+#include <lieservo/groups/lie_group_base.hpp>
 #include <lieservo/groups/detail/rotation.hpp>
 
 namespace lieservo {
@@ -22,7 +23,7 @@ namespace lieservo {
 template <typename Scalar_>
 /// SO(3): a rotation of space, stored as its 3 × 3 matrix C. The tangent is φ (rad);
 /// left perturbation C = exp(ε^) C̄ (docs/conventions.md).
-class SO3 {
+class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eigen::Matrix<Scalar_, 3, 3>> {
  public:
   using Scalar = Scalar_;  ///< float, double or long double
   using Real = detail::RealOf<Scalar>;  ///< the real type behind Scalar
@@ -114,16 +115,6 @@ class SO3 {
     const detail::AngleTerms<Scalar> t(phi.squaredNorm());
     return leftJacobianInverseWith(phi, t);
   }
-  /// Truncated series Σ_{n=0}^{N} B_n/n! (φ^)^n (eq. 34, eqn:inv_jacobian_def); N = 2 is the paper's.
-  template <int N>
-  static Jacobian leftJacobianInverseSeries(const Tangent& phi) {
-    return detail::inverseJacobianSeries<SO3, N>(phi);
-  }
-  /// Right Jacobian Jr(φ) = J(−φ) = J(φ)ᵀ.
-  static Jacobian rightJacobian(const Tangent& phi) { return leftJacobian(-phi); }
-  /// Jr(φ)⁻¹ = J(−φ)⁻¹.
-  static Jacobian rightJacobianInverse(const Tangent& phi) { return leftJacobianInverse(-phi); }
-
   /// exp(φ) and J(φ) sharing the trigonometric work.
   static SO3 expAndLeftJacobian(const Tangent& phi, Jacobian& J) {
     const detail::AngleTerms<Scalar> t(phi.squaredNorm());
@@ -137,19 +128,6 @@ class SO3 {
     Jinv = leftJacobianInverseWith(phi, t);
     return phi;
   }
-
-  // ---- BCH (eq. 32, eqn:bch_approx) ----------------------------------------------------------------
-  /// log(exp(ξ1) exp(ξ2)) ≈ J(ξ2)⁻¹ ξ1 + ξ2 for small ξ1.
-  static Tangent bchLeftSmall(const Tangent& xi1_small, const Tangent& xi2) {
-    return leftJacobianInverse(xi2) * xi1_small + xi2;
-  }
-  /// log(exp(ξ1) exp(ξ2)) ≈ ξ1 + J(−ξ1)⁻¹ ξ2 for small ξ2.
-  static Tangent bchRightSmall(const Tangent& xi1, const Tangent& xi2_small) {
-    return xi1 + leftJacobianInverse(-xi1) * xi2_small;
-  }
-
-  /// Geodesic interpolation: *this · exp(t · log(this⁻¹ · other)); t = 0 → *this, t = 1 → other.
-  SO3 interpolate(const SO3& other, Scalar t) const { return *this * exp(t * (inverse() * other).log()); }
 
   // ---- matrices and construction -----------------------------------------------------------
   Matrix matrix() const { return C_; }  ///< the rotation matrix C
