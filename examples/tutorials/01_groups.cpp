@@ -1,9 +1,12 @@
 // Tutorial 01 — Lie groups: exp and log, the adjoint, left Jacobians, BCH, float vs double.
 //
-// A sensor pose is a rigid motion X ∈ SE(3): a rotation C and a translation r. Small changes
-// live in the tangent space as 6-vectors ξ = [ρ; φ] (translation first, mm and radians), and
-//   X = exp(ξ^)        maps a tangent vector to the group (paper Appendix A (sec:math_prelim), Appendix A),
+// A sensor pose is a rigid motion X ∈ SE(3): a rotation C and a translation r, the 4 × 4
+// matrix of the paper's eq. 26. Small changes live in the tangent space as 6-vectors
+// ξ = [ρ; φ] (translation first, mm and radians; ξ^ is eq. 28, φ^ eq. 29), and
+//   X = exp(ξ^)        maps a tangent vector to the group (paper Appendix A),
 //   ξ = ln(X)^∨        maps back (its inverse, for rotation angles below π).
+// The sections below follow the appendix: the adjoint (eq. 30), the left Jacobian and its
+// inverse (eqs. 33 and 34), and the BCH approximation (eq. 32).
 // Everything below is checked numerically; the program exits with status 1 if a check fails.
 //
 // Build and run:  cmake --build <build> --target lieservo_tutorial_01_groups &&
@@ -43,13 +46,13 @@ int main() {
   const SE3d X = SE3d::exp(xi);
   check((X.log() - xi).norm() < 1e-12, "|ln(exp(xi)) - xi|", (X.log() - xi).norm());
 
-  std::printf("2. the adjoint moves a tangent vector between frames: X exp(d) X^-1 = exp(Ad(X) d)\n");
+  std::printf("2. the adjoint (eq. 30) moves a tangent vector between frames: X exp(d) X^-1 = exp(Ad(X) d)\n");
   const Tangent d = randomTangent(rng, 1.0, 0.1);
   const SE3d lhs = X * SE3d::exp(d) * X.inverse();
   const SE3d rhs = SE3d::exp(X.Ad() * d);
   check(lminus(lhs, rhs).norm() < 1e-12, "|ln(lhs rhs^-1)|", lminus(lhs, rhs).norm());
 
-  std::printf("3. the left Jacobian: exp(xi + e) = exp(J(xi) e) exp(xi) to first order in e\n");
+  std::printf("3. the left Jacobian (eq. 33): exp(xi + e) = exp(J(xi) e) exp(xi) to first order in e\n");
   // Central differences of e ↦ ln(exp(xi + e) exp(xi)^-1) give J column by column.
   SE3d::Jacobian J_num;
   const double h = 1e-6;
@@ -62,7 +65,7 @@ int main() {
   const SE3d::Jacobian I = J * SE3d::leftJacobianInverse(xi);
   check((I - SE3d::Jacobian::Identity()).norm() < 1e-12, "|J J^-1 - I|", (I - SE3d::Jacobian::Identity()).norm());
 
-  std::printf("4. BCH: a small left step d on exp(xi) adds J^-1(xi) d in the tangent space\n");
+  std::printf("4. BCH (eq. 32): a small left step d on exp(xi) adds J^-1(xi) d (eq. 34) in the tangent space\n");
   const Tangent small = 1e-4 * randomTangent(rng, 1.0, 1.0);
   const Tangent exact = (SE3d::exp(small) * X).log();
   const Tangent first_order = xi + SE3d::leftJacobianInverse(xi) * small;

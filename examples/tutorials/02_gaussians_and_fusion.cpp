@@ -1,12 +1,11 @@
 // Tutorial 02 — concentrated Gaussians on SE(3) and their fusion.
 //
 // An uncertain pose is a concentrated Gaussian: a mean X̄ and a covariance Σ of a small LEFT
-// perturbation ε, X = exp(ε^) X̄ with ε ~ N(0, Σ) (paper eq. 35 (eqn:se3_random_variable_2), Eq. (35)).
+// perturbation ε, X = exp(ε^) X̄ with ε ~ N(0, Σ) (paper eq. 35).
 // A GDN gives its estimate in the tangent space instead: a mean μ and standard deviations σ of
-// ξ = ln(X)^∨.
-// fromTangentGaussian converts one into the other (eq. 14, eq:se3_inverse_transform), and fuse()
-// multiplies two such beliefs into one (Algorithm 3, alg:se3_data_fusion), iterating because the product is
-// only Gaussian to first order around an operating point.
+// ξ = ln(X)^∨. fromTangentGaussian converts one into the other (eq. 14), and fuse() multiplies
+// two such beliefs into one (Algorithm 3), iterating because the product is only Gaussian to
+// first order around an operating point.
 // The program checks what it claims and exits with status 1 if a check fails.
 //
 // Build and run:  cmake --build <build> --target lieservo_tutorial_02_gaussians_and_fusion &&
@@ -58,6 +57,22 @@ int main() {
         "fromTangentGaussian: ok for both");
   print("a", a);
   print("b", b);
+  // b's translation sd comes out as 0.13, 0.14, 0.07 mm, not its σ of 0.10, 0.10, 0.05: Σ =
+  // J(μ) diag(σ²) J(μ)ᵀ (eq. 14) is the covariance of a LEFT perturbation of the whole pose,
+  // and J's upper-right block (≈ ½ ρ^ at small angles) turns a tangent rotation error dφ into
+  // a translation error ½ ρ × dφ. With ρ = (2, 0, 3) mm and b's 3° (0.052 rad) that adds
+  // 0.078, 0.094 and 0.052 mm in quadrature: √(0.10² + 0.078²) = 0.13, and so on.
+  std::printf("  (b's translation sd exceeds its sigma: J(mu) carries its 3 deg rotation spread into the\n"
+              "   translation as 1/2 rho x dphi, about 0.08, 0.09, 0.05 mm in quadrature)\n");
+  {  // the claim, checked: sd_i² ≈ σ_i² + Σ_j (½ ρ^_ij σ_φj)² (first order in the angles)
+    const Eigen::Matrix3d half_rho_hat = 0.5 * SO3d::hat(Eigen::Vector3d(mu_b.head<3>()));
+    bool close = true;
+    for (int i = 0; i < 3; ++i) {
+      const double leak = half_rho_hat.row(i).cwiseProduct(sigma_b.tail<3>().transpose()).norm();
+      close = close && std::abs(std::sqrt(b.covariance(i, i)) - std::hypot(sigma_b[i], leak)) < 0.01;
+    }
+    check(close, "b's sd = sqrt(sigma^2 + (rho x sigma_phi / 2)^2) within 0.01 mm");
+  }
   check((a.mean.log() - mu_a).norm() < 1e-12, "the mean is exp(mu)");
 
   std::printf("2. fusion: each estimate corrects the other where it is the surer one\n");

@@ -1,13 +1,11 @@
-// Tutorial 03 — the SE(3) discriminative Bayesian filter, step by step, of
-// Lloyd & Lepora, "Pose-and-shear-based tactile servoing" (Section 3.2 (sec:se3_bayes_filter),
-// Algorithm 2 (alg:se3_bayes_filter), Appendices B and C).
+// Tutorial 03 — the SE(3) discriminative Bayesian filter, step by step, of Lloyd & Lepora,
+// "Pose-and-shear-based tactile servoing" (Section 3.2, Algorithm 2, Appendices B and C).
 //
 // The story. A tactile sensor touches a surface. A neural network (the paper's Gaussian density
 // network, GDN) looks at each tactile image and outputs, for the six pose-and-shear components
 //     (x, y, z in mm; α, β, γ rotations),
 // a mean μ_k (exponential coordinates of SE(3)) and a standard deviation σ_k per component.
-// Single images are noisy (Table 1 (tab:nn_pose_shear_estimate_results): MAE ≈ 0.43, 0.42, 0.12 mm
-// and 0.45°, 0.64°, 1.16°). Because consecutive images see almost the same contact, and the
+// Single images are noisy (Table 1: MAE ≈ 0.43, 0.42, 0.12 mm and 0.45°, 0.64°, 1.16°). Because consecutive images see almost the same contact, and the
 // robot knows how it moved the sensor, we can combine the estimates over time: that is the
 // filter. This program
 //   1. simulates a contact pose-and-shear sequence X_k and the sensor poses X_k^sens,
@@ -57,21 +55,21 @@ int main() {
 
   // ---- The noise levels ---------------------------------------------------------------------
   // GDN-like observation noise: per-component σ close to the paper's single-image errors
-  // (Table 1 (tab:nn_pose_shear_estimate_results)). Each estimate also varies in quality: the GDN
-  // reports a different σ for every image, so we scale σ per image by a random factor.
+  // (Table 1). Each estimate also varies in quality: the GDN reports a different σ for every
+  // image, so we scale σ per image by a random factor.
   Tangent sigma_obs;
   sigma_obs << 0.4, 0.4, 0.12, 0.5 * kDeg, 0.6 * kDeg, 1.2 * kDeg;
   // How much the contact really changes between steps beyond the known sensor motion: the
-  // state-dynamics noise ψ_k (eq. 23, eqn:se3_filter_exp_state_trans_model, eq. 24 (eqn:se3_filter_exp_state_trans_cov)),
-  // here σψ = 0.05 (mm, and degrees converted to radians).
+  // state-dynamics noise ψ_k (eqs. 23 and 24), here σψ = 0.05 (mm, and degrees converted to
+  // radians).
   Tangent sigma_psi;
   sigma_psi << 0.05, 0.05, 0.05, 0.05 * kDeg, 0.05 * kDeg, 0.05 * kDeg;
 
   // ---- Step 0: configure the filter -------------------------------------------------------
-  // Σφ, the state-dynamics noise covariance of the filter (eq. 16, eqn:state_dynamics_noise_cov). As
-  // in the paper's filter experiment, we set it to the true dynamics noise: Σφ = Σψ.
+  // Σφ, the state-dynamics noise covariance of the filter (eq. 16). As in the paper's filter
+  // experiment, we set it to the true dynamics noise: Σφ = Σψ.
   // The correction step uses the paper's data fusion: 5 iterations (real-time mode) and the
-  // second-order inverse-Jacobian series (PaperJacobian) of Algorithm 3 (alg:se3_data_fusion).
+  // second-order inverse-Jacobian series (PaperJacobian) of Algorithm 3.
   // That series is the library's one default (DefaultJacobian): fromTangentGaussian below
   // converts each observation with it too, so the observation is linearised one way.
   DiscriminativeBayesFilter<G>::Options options;
@@ -97,17 +95,18 @@ int main() {
 
   // Accumulated absolute errors per component (exponential coordinates), before and after.
   std::array<double, 6> mae_obs{}, mae_fil{};
+  double nis_sum = 0.0;  // over the steps after the initialisation
   auto accumulate = [](std::array<double, 6>& acc, const Tangent& est, const Tangent& truth) {
     for (int i = 0; i < 6; ++i) acc[size_t(i)] += std::abs(est[i] - truth[i]);
   };
 
   // ---- Step 1: initialise from the first observation --------------------------------------
-  // The GDN output (μ_0, σ_0) becomes a concentrated Gaussian on SE(3) (eq. 14, eq:se3_inverse_transform):
+  // The GDN output (μ_0, σ_0) becomes a concentrated Gaussian on SE(3) (eq. 14):
   //     X̄_0^obs = exp(μ_0^),   Σ_0^obs = J(μ_0) diag(σ_0²) J(μ_0)ᵀ,
   // because the library represents uncertainty as a LEFT perturbation, X = exp(ε^) X̄
-  // (eq. 35, eqn:se3_random_variable_2), while the network's σ is in exponential coordinates
-  // (eq. 38, eqn:glob_tangent_space_pdf, inverted). The filter's first step is the initialisation,
-  // fil_0 = bel_0 = obs_0 (Algorithm 2, alg:se3_bayes_filter); every later step predicts and corrects.
+  // (eq. 35), while the network's σ is in exponential coordinates (eq. 38, inverted). The
+  // filter's first step is the initialisation, fil_0 = bel_0 = obs_0 (Algorithm 2); every later
+  // step predicts and corrects.
   Tangent mu, sigma;
   gdnEstimate(X_true, mu, sigma);
   Gaussian obs;
@@ -121,7 +120,14 @@ int main() {
   std::printf("Discriminative Bayesian filter on SE(3): %d steps of a simulated pose-and-shear "
               "sequence\n\n", steps);
   std::printf("Errors (estimate - truth) in exponential coordinates: x y z in mm, alpha beta gamma in deg\n");
+  // NIS: the normalised innovation squared of each observation against the predicted belief,
+  // (innovation)ᵀ (Σ_obs + Σ_bel)⁻¹ (innovation). For a filter whose covariances are right it
+  // follows a χ² distribution with 6 degrees of freedom: about 6 on average, rarely above 20
+  // (the filter's optional gate rejects observations above a χ² quantile). Here the σ the
+  // network reports is the σ of its noise and Σφ = Σψ, so the mean NIS must come out near 6
+  // (checked at the end: within [5, 7]). it: the fusion iterations of the correction.
   std::printf("   k | observation (GDN-like)              | filtered                            |  NIS  | it\n");
+  std::printf("   (NIS: normalised innovation squared, chi-square with 6 degrees of freedom; it: fusion iterations)\n");
 
   for (int k = 1; k < steps; ++k) {
     // -- the world moves --
@@ -131,15 +137,15 @@ int main() {
 
     // -- the network looks at the new tactile image --
     gdnEstimate(X_true, mu, sigma);
-    if (fromTangentGaussian(mu, sigma, obs) != Status::ok) return 1;  // eq. 14 (eq:se3_inverse_transform)
+    if (fromTangentGaussian(mu, sigma, obs) != Status::ok) return 1;  // eq. 14
 
-    // ---- Step 2: one filter step (Algorithm 2, alg:se3_bayes_filter) -----------------------------------
-    // Prediction (eq. 12, eqn:bayes_filter_prediction, eq. 41 (eqn:se3_rv_probabilistic_transform_2)): the
-    // filter computes T̄_k = (X_k^sens)⁻¹ X_{k−1}^sens from the sensor poses and moves the belief:
+    // ---- Step 2: one filter step (Algorithm 2) ---------------------------------------------
+    // Prediction (eqs. 12 and 41): the filter computes T̄_k = (X_k^sens)⁻¹ X_{k−1}^sens from the
+    // sensor poses and moves the belief:
     //     X̄_k^bel = T̄_k X̄_{k−1}^fil,   Σ_k^bel = Ad(T̄_k) Σ_{k−1}^fil Ad(T̄_k)ᵀ + Σφ.
-    // Correction (eq. 13, eqn:bayes_filter_correction): the belief is fused with the observation by
-    // the iterative SE(3) data fusion (Algorithm 3, alg:se3_data_fusion, Appendix C), which finds the
-    // normalised product of the two concentrated Gaussians.
+    // Correction (eq. 13): the belief is fused with the observation by the iterative SE(3) data
+    // fusion (Algorithm 3, Appendix C), which finds the normalised product of the two
+    // concentrated Gaussians.
     const Status s = filter.step(X_sens, obs);
     if (s != Status::ok) {
       std::printf("step %d failed: %s\n", k, describe(s));
@@ -151,6 +157,7 @@ int main() {
     const Tangent est = filter.filtered().mean.log();
     accumulate(mae_obs, mu, truth);
     accumulate(mae_fil, est, truth);
+    nis_sum += filter.diagnostics().nis;
     if (k <= 5 || k % 200 == 0) {
       const Tangent eo = mu - truth, ef = est - truth;
       std::printf("%4d | %5.2f %5.2f %5.2f %5.2f %5.2f %5.2f | %5.2f %5.2f %5.2f %5.2f %5.2f %5.2f | %5.2f | %d\n",
@@ -181,11 +188,18 @@ int main() {
               std::sqrt(filter.filtered().covariance(3, 3)) / kDeg,
               std::sqrt(filter.filtered().covariance(4, 4)) / kDeg,
               std::sqrt(filter.filtered().covariance(5, 5)) / kDeg);
+  const double mean_nis = nis_sum / (steps - 1);
+  std::printf("mean NIS %.2f (chi-square with 6 degrees of freedom has mean 6: the covariances are consistent)\n",
+              mean_nis);
   std::printf("run time %.3f s\n", seconds);
   if (!all_reduced) {
     std::printf("FAIL: filtering did not reduce the error of every component\n");
     return 1;
   }
-  std::printf("OK: filtering reduced the error of every component\n");
+  if (!(mean_nis >= 5.0 && mean_nis <= 7.0)) {
+    std::printf("FAIL: the mean NIS is outside [5, 7]: the filter's covariances do not match its errors\n");
+    return 1;
+  }
+  std::printf("OK: filtering reduced the error of every component, with a mean NIS near 6\n");
   return 0;
 }

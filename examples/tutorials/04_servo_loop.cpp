@@ -1,10 +1,12 @@
 // Tutorial 04 — PID control in the tangent space: the tactile servo loop.
 //
 // The sensor should hold a reference contact X_fs' (the paper's object tracking: 6 mm deep,
-// normal to the surface). Each cycle the controller (Section 3.3.2, sec:servoing_controller)
-//   1. forms the servo error E = X_sf X_fs' — the reference sensor pose seen from the sensor,
-//   2. takes e = ln(E)^∨ (eq. 18, eqn:local_tangent_space_error), a 6-vector in mm and radians,
-//   3. runs a MIMO PID on e and outputs a body twist u of the sensor,
+// normal to the surface). Each cycle the controller (Section 3.3.2)
+//   1. forms the servo error E = X_sf X_fs' (eq. 20) — the reference sensor pose seen from the
+//      sensor,
+//   2. takes e = ln(E)^∨ (eq. 18), a 6-vector in mm and radians,
+//   3. runs a MIMO PID on e, plus the feedforward twist (eq. 19), and outputs a body twist u of
+//      the sensor,
 // and the robot moves the sensor: X_ws ← X_ws exp(u^ dt) (a body twist: RIGHT multiplication).
 // Here the surface is fixed and the sensor starts off its reference; the loop must bring it
 // there. The contact is read perfectly (X_sf from the geometry), so this shows the controller

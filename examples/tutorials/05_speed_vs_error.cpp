@@ -1,7 +1,9 @@
 // Tutorial 05 — speed against error: how many fusion iterations fit in a 1 kHz cycle?
 //
-// The filter's correction fuses two concentrated Gaussians by iterating (Algorithm 3, alg:se3_data_fusion);
-// the paper runs a fixed 5 iterations so that every cycle takes the same time. Fewer
+// The filter's correction fuses two concentrated Gaussians by iterating (Algorithm 3): each
+// iteration linearises their normalised product (eq. 44) about the current mean, through the
+// second-order inverse-Jacobian series (eq. 34), and moves the mean by the update of eq. 54.
+// The paper runs a fixed 5 iterations so that every cycle takes the same time. Fewer
 // iterations are faster but leave the answer further from the converged product. This program
 // measures both on the same 1000 random pairs of SE(3) beliefs (GDN-like spreads):
 //   error = |ln(X̄_n X̄_∞⁻¹)| against a fully converged fusion, and the time per call.

@@ -5,8 +5,10 @@
 // needs only a rotation — SO(3). A smaller group means smaller matrices and less work, with
 // the same code. This program runs ONE function, track<G>(), on both: a feature fixed in the
 // world, a moving sensor, noisy GDN-like observations of X_sf, and the paper's filter
-// (Algorithm 2, alg:se3_bayes_filter) using the sensor's own motion. Exits with status 1 unless filtering
-// lowers the mean error of every component in both scenes.
+// (Algorithm 2: prediction eq. 12, correction eq. 13) using the sensor's own motion. The
+// paper writes its equations for SE(3); on SE(2) and SO(3) the same formulas hold with that
+// group's exp, Ad and Jacobians (eqs. 30-34 become 3 × 3). Exits with status 1 unless
+// filtering lowers the mean error of every component in both scenes.
 //
 // Build and run:  cmake --build <build> --target lieservo_tutorial_06_model_what_you_need &&
 //                 <build>/examples/tutorials/lieservo_tutorial_06_model_what_you_need

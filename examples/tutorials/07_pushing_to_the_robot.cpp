@@ -5,9 +5,9 @@
 // together in a physics engine (MuJoCo), as it would on a robot:
 //
 //   20 Hz tactile loop:  contact → GDN-like observation (μ, σ)
-//                        → concentrated Gaussian (eq. 14, eq:se3_inverse_transform)
-//                        → Bayes filter with a χ² gate (Algorithm 2, alg:se3_bayes_filter)
-//                        → pushing controller (Section 3.3.3, sec:pushing_controller)
+//                        → concentrated Gaussian (eq. 14)
+//                        → Bayes filter with a χ² gate (Algorithm 2)
+//                        → pushing controller (Section 3.3.3)
 //                        → a sensor twist, written to a channel;
 //   robot loop (here 400 Hz, the engine's step; 1 kHz on a Franka): read the newest twist → the
 //                        command watchdog → the twist in the robot's base frame, in m/s →
@@ -20,7 +20,7 @@
 // on with its prediction.
 //
 // The object is the paper's 100 mm blue square on MDF
-// (Section 5.6, sec:single_arm_object_pushing_exp): the sensor starts 250 mm before the origin and pushes it
+// (Section 5.6): the sensor starts 250 mm before the origin and pushes it
 // to a target 375 mm away along y, so the controller must turn the object on the way.
 // Exits with status 1 if a check stated at the end of main() fails.
 //
