@@ -57,8 +57,9 @@ bool track(const char* name, const typename G::Tangent& sensor_twist, const type
       std::printf("%s: filter step %d: %s\n", name, k, describe(s));
       return false;
     }
+    // Both errors in the same coordinates, the GDN's: ln(estimate)^∨ − ln(truth)^∨.
     mae_raw += (mu - X_sf.log()).cwiseAbs() / steps;
-    mae_filtered += lminus(filter.filtered().mean, X_sf).cwiseAbs() / steps;
+    mae_filtered += (filter.filtered().mean.log() - X_sf.log()).cwiseAbs() / steps;
   }
   bool better = true;
   std::printf("%s (%d numbers per pose, %dx%d covariances)\n", name, int(G::DoF), int(G::DoF), int(G::DoF));
