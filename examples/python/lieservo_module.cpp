@@ -374,7 +374,14 @@ void bindEstimation(py::module_& m, const std::string& suffix) {
       .def(
           "predict",
           [](Filter& f, const G& T_bar) { check(f.predict(T_bar), "predict"); }, py::arg("T_bar"),
-          "The prediction alone, with the relative motion T̄_k (eq. 12, eqn:bayes_filter_prediction).")
+          "The prediction alone, with the relative motion T̄_k = X_k⁻¹ X_{k−1} of the sensor poses, the "
+          "inverse of the odometry increment (eq. 12, eqn:bayes_filter_prediction).")
+      .def(
+          "predict_from_odometry",
+          [](Filter& f, const G& increment) { check(f.predictFromOdometry(increment), "predict_from_odometry"); },
+          py::arg("increment"),
+          "The prediction alone, from the sensor's odometry increment X_{k−1}⁻¹ X_k (the new sensor pose in "
+          "the previous sensor frame): predict(increment.inverse()).")
       .def(
           "correct",
           [](Filter& f, const Gaussian& observation) {

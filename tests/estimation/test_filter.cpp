@@ -371,6 +371,7 @@ TEMPLATE_TEST_CASE("filter: bad input returns a clear Status and leaves the stat
   {
     const FilterSnapshot<G> before(f);
     CHECK(f.predict(sens) == Status::not_initialised);
+    CHECK(f.predictFromOdometry(sens) == Status::not_initialised);
     CHECK(f.correct(good) == Status::not_initialised);
     CHECK(f.diagnostics().last_status == Status::not_initialised);
     CHECK(FilterSnapshot<G>(f).bitwiseEqual(before));
@@ -460,6 +461,8 @@ TEMPLATE_TEST_CASE("filter: bad input returns a clear Status and leaves the stat
     } else {
       CHECK(f.predict(c.pose) == c.expected);
       CHECK(FilterSnapshot<G>(f).bitwiseEqual(before));
+      CHECK(f.predictFromOdometry(c.pose) == c.expected);
+      CHECK(FilterSnapshot<G>(f).bitwiseEqual(before));
     }
     DiscriminativeBayesFilter<G> fresh(opt);  // as the initialising first step
     CHECK(fresh.step(c.pose, c.obs) == c.expected);
@@ -492,10 +495,12 @@ TEST_CASE("filter: float and double agree; predict+correct equals step", "[estim
   DiscriminativeBayesFilter<G> fd;
   DiscriminativeBayesFilter<SE3f> ff;
   DiscriminativeBayesFilter<G> fm;  // manual predict + correct
+  DiscriminativeBayesFilter<G> fo;  // the same from the odometry increment X_{k-1}^-1 X_k
   const auto o0 = sim.observe();
   REQUIRE(fd.step(sim.sens, o0) == Status::ok);
   REQUIRE(ff.step(sim.sens.cast<float>(), castGaussian<float>(o0)) == Status::ok);
   REQUIRE(fm.step(sim.sens, o0) == Status::ok);
+  REQUIRE(fo.step(sim.sens, o0) == Status::ok);
   double max_err = 0, max_cov = 0;
   G prev = sim.sens;
   for (int k = 0; k < 500; ++k) {
@@ -505,6 +510,10 @@ TEST_CASE("filter: float and double agree; predict+correct equals step", "[estim
     REQUIRE(ff.step(s.cast<float>(), castGaussian<float>(o)) == Status::ok);
     REQUIRE(fm.predict(s.inverse() * prev) == Status::ok);
     CHECK(fm.belief().mean.isApprox(fd.belief().mean, 1e-12));
+    REQUIRE(fo.predictFromOdometry(prev.inverse() * s) == Status::ok);
+    CHECK(fo.belief().mean.isApprox(fd.belief().mean, 1e-12));
+    CHECK(relDiff(fo.belief().covariance, fd.belief().covariance) < 1e-12);
+    REQUIRE(fo.correct(o) == Status::ok);
     REQUIRE(fm.correct(o) == Status::ok);
     CHECK(fm.filtered().mean.isApprox(fd.filtered().mean, 1e-12));
     CHECK(relDiff(fm.filtered().covariance, fd.filtered().covariance) < 1e-12);

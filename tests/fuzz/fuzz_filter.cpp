@@ -55,7 +55,7 @@ void run(Bytes& b) {
       case 1: {
         const G T = fuzz::groupElement<G>(b);
         inputs_finite = T.allFinite();
-        s = f.predict(T);
+        s = (b.u8() & 1) ? f.predict(T) : f.predictFromOdometry(T);  // T̄ or the odometry increment
         break;
       }
       case 2: {

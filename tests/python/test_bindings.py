@@ -177,6 +177,22 @@ def test_filter_state_unchanged_after_an_error():
     assert f.diagnostics["last_status"] == "non_finite_input"
 
 
+def test_predict_from_odometry_is_predict_of_the_inverse_increment():
+    obs = ls.from_tangent_gaussian(np.array([0, 0, 3.0, 0.1, 0, 0]), np.array([0.5, 0.5, 0.5, 0.02, 0.02, 0.02]))
+    increment = ls.SE3.exp(np.array([0.4, -0.2, 0.1, 0.01, 0.02, -0.03]))  # X_{k-1}^-1 X_k
+    fa, fb = ls.DiscriminativeBayesFilter(), ls.DiscriminativeBayesFilter()
+    assert fa.step(ls.SE3(), obs) and fb.step(ls.SE3(), obs)
+    fa.predict(increment.inverse())
+    fb.predict_from_odometry(increment)
+    assert fa.belief.mean.is_approx(fb.belief.mean, 1e-12)
+    assert np.allclose(fa.belief.covariance, fb.belief.covariance, rtol=1e-12, atol=0)
+    before = fb.belief.mean.matrix().copy()
+    with pytest.raises(ls.Error) as e:
+        fb.predict_from_odometry(ls.SE3.exp(np.array([np.nan, 0, 0, 0, 0, 0])))
+    assert e.value.status == "non_finite_input"
+    assert np.array_equal(fb.belief.mean.matrix(), before)
+
+
 def test_filter_reduces_the_error_of_noisy_observations_of_a_still_contact():
     # A sensor at rest on a contact ξ_true, so the dynamics model has (almost) no process
     # noise; observations with σ = (0.5 mm, 2°). Averaging k observations divides the error by

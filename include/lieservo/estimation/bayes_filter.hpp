@@ -167,6 +167,17 @@ class DiscriminativeBayesFilter {
     return diag_.last_status = Status::ok;
   }
 
+  /// Prediction only, from the sensor's odometry increment ΔX = X_{k−1}⁻¹ X_k (the new sensor
+  /// pose in the previous sensor frame, the increment a robot or an odometry source reports):
+  /// predict(ΔX⁻¹). The same refusals as predict(), checked on ΔX; state unchanged on error.
+  Status predictFromOdometry(const G& sensor_increment) noexcept {
+    if (options_status_ != Status::ok) return diag_.last_status = options_status_;
+    if (!initialised_) return diag_.last_status = Status::not_initialised;
+    const Status s = validateElement(sensor_increment);
+    if (s != Status::ok) return diag_.last_status = s;
+    return predict(sensor_increment.inverse());
+  }
+
   /// Correction only (eq. 13, eqn:bayes_filter_correction): fuses the observation with the current
   /// state (the belief after predict()). outlier_rejected leaves the state as it was.
   Status correct(const Gaussian& observation) noexcept {
