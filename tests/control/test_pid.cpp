@@ -233,6 +233,16 @@ TEST_CASE("pid: option validation", "[control][pid]") {
   Pid2 good(Pid2::Options::diagonal(V2(1, 1), V2::Zero(), V2::Zero()));
   CHECK(good.configure(bad) == Status::invalid_argument);
   CHECK(good.options().kp(0, 0) == 1);
+  CHECK(good.configurationStatus() == Status::ok);  // a refused configure() changes nothing
+  // configurationStatus(): why the constructor's options were refused, until a configure()
+  // succeeds; a refused configure() does not change it either.
+  Pid2::Options nan_gain;
+  nan_gain.kp(0, 1) = kNaN;
+  CHECK(refused.configure(nan_gain) == Status::non_finite_input);
+  CHECK(refused.configurationStatus() == Status::invalid_argument);
+  CHECK(refused.configure(Pid2::Options::diagonal(V2(1, 1), V2::Zero(), V2::Zero())) == Status::ok);
+  CHECK(refused.configurationStatus() == Status::ok);
+  CHECK(refused.step(V2(1, 1), V2::Zero(), 0.1, u) == Status::ok);
 }
 
 TEST_CASE("pid: SisoPid equals MimoPid<1>", "[control][pid]") {

@@ -135,7 +135,7 @@ class CentralisedDualArmPushing {
   const typename Arms::Leader& leader() const noexcept { return arms_.leader(); }  ///< the leader's controller
   const typename Arms::Follower& follower() const noexcept { return arms_.follower(); }  ///< the follower's controller
   const Options& options() const noexcept { return options_; }  ///< the options in force
-  Status configurationStatus() const noexcept { return config_status_; }  ///< ok, or why the last configure() refused (step() returns it)
+  Status configurationStatus() const noexcept { return config_status_; }  ///< ok, or why the constructor's options were refused: step() returns it until a configure() succeeds (a configure() that fails changes nothing, this included)
 
  private:
   Arms arms_{};

@@ -160,7 +160,7 @@ class DualArmPushing {
   Follower& follower() noexcept { return follower_; }  ///< the follower's controller
   const Filter& leaderFilter() const noexcept { return leader_filter_; }  ///< the leader's filter
   const Filter& followerFilter() const noexcept { return follower_filter_; }  ///< the follower's filter
-  Status configurationStatus() const noexcept { return config_status_; }  ///< ok, or why the last configure() refused (step() returns it)
+  Status configurationStatus() const noexcept { return config_status_; }  ///< ok, or why the constructor's options were refused: step() returns it until a configure() succeeds (a configure() that fails changes nothing, this included)
 
  private:
   static Status filterStep(Filter& filter, const ArmInput& in, ArmOutput& out) noexcept {

@@ -217,7 +217,7 @@ class MimoPid {
   }
 
   const Options& options() const noexcept { return options_; }  ///< the options in force
-  Status configurationStatus() const noexcept { return config_status_; }  ///< ok, or why the last configure() refused (step() returns it)
+  Status configurationStatus() const noexcept { return config_status_; }  ///< ok, or why the constructor's options were refused: step() returns it until a configure() succeeds (a configure() that fails changes nothing, this included)
   const Vector& integral() const noexcept { return integral_; }       ///< clipped ∫e dt
   const Vector& smoothedError() const noexcept { return smoothed_; }  ///< ē_k
   const Vector& derivative() const noexcept { return derivative_; }   ///< (ē_k − ē_{k−1})/dt

@@ -229,7 +229,7 @@ class PushingController {
   const Servo& servo() const noexcept { return servo_; }  ///< PID 1
   const Alignment& alignment() const noexcept { return alignment_; }  ///< PID 2
   const Options& options() const noexcept { return options_; }  ///< the options in force
-  Status configurationStatus() const noexcept { return config_status_; }  ///< ok, or why the last configure() refused (step() returns it)
+  Status configurationStatus() const noexcept { return config_status_; }  ///< ok, or why the constructor's options were refused: step() returns it until a configure() succeeds (a configure() that fails changes nothing, this included)
 
  private:
   Options options_{};

@@ -145,7 +145,7 @@ class TactileServoController {
   const Tangent& feedforwardInSensorFrame() const noexcept { return feedforward_sensor_; }
   const Pid& pid() const noexcept { return pid_; }  ///< the feedback PID
   const Options& options() const noexcept { return options_; }  ///< the options in force
-  Status configurationStatus() const noexcept { return config_status_; }  ///< ok, or why the last configure() refused (step() returns it)
+  Status configurationStatus() const noexcept { return config_status_; }  ///< ok, or why the constructor's options were refused: step() returns it until a configure() succeeds (a configure() that fails changes nothing, this included)
 
  private:
   Options options_{};
