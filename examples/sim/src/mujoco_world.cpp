@@ -427,12 +427,11 @@ double halfExtentX(const ObjectSpec& o) {
   return o.shape == "circle" ? o.size : o.size / 2;
 }
 
-mjModel_* loadScene(const SceneSpec& spec) {
-  const std::string mjcf = sceneMjcf(spec);
+mjModel_* loadMjcf(const std::string& mjcf) {
   mjVFS vfs;
   mj_defaultVFS(&vfs);
-  const char* file = "lieservo_scene.xml";
-  if (mj_makeEmptyFileVFS(&vfs, file, int(mjcf.size())) != 0) throw SceneError("MuJoCo: cannot hold the scene");
+  const char* file = "lieservo_model.xml";
+  if (mj_makeEmptyFileVFS(&vfs, file, int(mjcf.size())) != 0) throw SceneError("MuJoCo: cannot hold the model");
   std::memcpy(vfs.filedata[mj_findFileVFS(&vfs, file)], mjcf.data(), mjcf.size());
   char error[1024] = "";
   mjModel* m = nullptr;
@@ -442,9 +441,11 @@ mjModel_* loadScene(const SceneSpec& spec) {
     m = mj_loadXML(file, &vfs, error, sizeof error);
   }
   mj_deleteVFS(&vfs);
-  if (!m) throw SceneError(std::string("MuJoCo could not load the scene: ") + error);
+  if (!m) throw SceneError(std::string("MuJoCo could not load the model: ") + error);
   return m;
 }
+
+mjModel_* loadScene(const SceneSpec& spec) { return loadMjcf(sceneMjcf(spec)); }
 
 World::World(const SceneSpec& spec) : spec_(spec) {
   m_ = loadScene(spec);

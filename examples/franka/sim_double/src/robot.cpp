@@ -33,8 +33,15 @@ constexpr double kDt = 1e-3;
 
 }  // namespace
 
-std::shared_ptr<Arm> Arm::create(const std::string& address, const panda::Joints& q0) {
-  auto arm = std::make_shared<Arm>(q0);
+void KinematicServo::step(const panda::Joints& dq_cmd, const Eigen::Vector3d&, const Eigen::Vector3d&,
+                          panda::Joints& q, panda::Joints& dq) {
+  q += kDt * dq_cmd;
+  dq = dq_cmd;
+}
+
+std::shared_ptr<Arm> Arm::create(const std::string& address, const panda::Joints& q0,
+                                 std::shared_ptr<JointServo> servo) {
+  auto arm = std::make_shared<Arm>(q0, std::move(servo));
   std::lock_guard<std::mutex> g(registryMutex());
   registry()[address] = arm;
   return arm;
@@ -51,9 +58,17 @@ std::shared_ptr<Arm> Arm::find(const std::string& address) {
   return it == registry().end() ? nullptr : it->second;
 }
 
-Arm::Arm(const panda::Joints& q0) : q_(q0) {
+Arm::Arm(const panda::Joints& q0, std::shared_ptr<JointServo> servo)
+    : q_(q0), servo_(servo ? std::move(servo) : std::make_shared<KinematicServo>()) {
   if (!q0.allFinite() || panda::jointLimitMargin(q0) < 0)
     throw std::invalid_argument("franka_sim::Arm: the start configuration is outside the joint limits");
+}
+
+void Arm::setLoad(const Eigen::Vector3d& f, const Eigen::Vector3d& p) {
+  if (!f.allFinite() || !p.allFinite()) throw std::invalid_argument("franka_sim::Arm::setLoad: non-finite force or point");
+  std::lock_guard<std::mutex> g(mutex_);
+  load_f_ = f;
+  load_p_ = p;
 }
 
 void Arm::injectReflex(const std::string& what) {
@@ -123,7 +138,7 @@ franka::RobotState Arm::readOnce() const {
 
 void Arm::fail(const std::string& what) {
   faulted_ = true;
-  dq_.setZero();  // the robot brakes
+  servo_->brake(q_, dq_);
   ++report_.errors;
   report_.last_error = what;
   throw franka::ControlException("libfranka: Move command aborted: motion aborted by reflex! [\"" + what + "\"]");
@@ -206,10 +221,11 @@ void Arm::control(const std::function<franka::CartesianVelocities(const franka::
     if (r.lambda > 0) ++report_.damped_cycles;
     else report_.max_twist_error = std::max(report_.max_twist_error, twist_error);
     report_.min_manipulability = std::min(report_.min_manipulability, panda::manipulability(J));
-    const panda::Joints q_next = q_ + kDt * r.dq;
-    if (panda::jointLimitMargin(q_next) < 0) fail("cartesian_motion_generator_joint_position_limits_violation");
-    q_ = q_next;
-    dq_ = r.dq;
+    // libfranka judges the commanded motion, and a real joint past its limit stops it too.
+    if (panda::jointLimitMargin(q_ + kDt * r.dq) < 0) fail("cartesian_motion_generator_joint_position_limits_violation");
+    servo_->step(r.dq, load_f_, load_p_, q_, dq_);
+    if (panda::jointLimitMargin(q_) < 0) fail("cartesian_motion_generator_joint_position_limits_violation");
+    report_.max_achieved_error = std::max(report_.max_achieved_error, ((J * dq_).head<3>() - v.head<3>()).norm());
     time_ms_ += 1;
     report_.min_joint_margin = std::min(report_.min_joint_margin, panda::jointLimitMargin(q_));
     if (lockstep_ && permits_ > 0) {
@@ -218,7 +234,7 @@ void Arm::control(const std::function<franka::CartesianVelocities(const franka::
       cycle_cv_.notify_all();
     }
     if (c.motion_finished) {
-      dq_.setZero();
+      servo_->brake(q_, dq_);
       ++report_.motions;
       return;
     }

@@ -243,6 +243,9 @@ std::string sceneMjcf(const SceneSpec& spec);
 /// The scene compiled by MuJoCo (validates first; throws SceneError). The caller owns it
 /// (mj_deleteModel).
 mjModel_* loadScene(const SceneSpec& spec);
+/// Any MJCF text compiled by MuJoCo from memory (throws SceneError with MuJoCo's message). The
+/// caller owns it (mj_deleteModel).
+mjModel_* loadMjcf(const std::string& mjcf);
 
 /// A run's world states, kept so that it can be shown afterwards (render.hpp) without
 /// touching the run: the scene as built and MuJoCo's generalised positions (qpos: metres,

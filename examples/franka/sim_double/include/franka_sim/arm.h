@@ -8,9 +8,11 @@
 // as libfranka names them), an injected reflex. After
 // an error the arm is at rest (dq = 0) until automaticErrorRecovery().
 //
-// Kinematic: joint velocity control without dynamics or contact (the arm tracks its joint
-// velocity command exactly), paced at 1 kHz of wall-clock time, since the
-// adapter's watchdog measures the age of commands on the steady clock. In lockstep mode
+// What moves the joints is a JointServo: by default kinematic (the joints follow their velocity
+// command exactly, no dynamics, no load); a dynamic one (the MuJoCo Panda of
+// lieservo_sim/panda_dynamics.hpp under its joint controller, tests/franka/test_franka_tasks.cpp)
+// lags the command and yields to the load set with setLoad. The cycles are paced at 1 kHz of
+// wall-clock time, since the adapter's watchdog measures the age of commands on the steady clock. In lockstep mode
 // (setLockstep) the cycles run only as a simulation releases them (advance), so that a
 // simulated world and the arm share one clock (tests/franka/test_franka_tasks.cpp).
 #pragma once
@@ -44,18 +46,48 @@ struct ArmReport {
   double max_speed = 0, max_angular_speed = 0;   ///< m/s, rad/s commanded
   double max_accel = 0, max_angular_accel = 0;   ///< m/s², rad/s² (differences over 1 ms)
   double max_jerk = 0, max_angular_jerk = 0;     ///< m/s³, rad/s³
+  /// max ‖(J dq)_v − v‖ (m/s), J where the cycle started and dq the joint velocities the servo
+  /// reached at its end: the flange's translation velocity achieved against the command (for
+  /// the kinematic servo, the resolved rate's own error: 0 up to rounding).
+  double max_achieved_error = 0;
+};
+
+/// The joints' response to the 1 kHz joint velocity commands of the resolved rate.
+class JointServo {
+ public:
+  virtual ~JointServo() = default;
+  /// One 1 ms cycle from (q, dq) toward the commanded joint velocities dq_cmd, under the load
+  /// (force f, N, at point p, m, both in {O}); q and dq become the joints' state after it.
+  virtual void step(const panda::Joints& dq_cmd, const Eigen::Vector3d& f, const Eigen::Vector3d& p,
+                    panda::Joints& q, panda::Joints& dq) = 0;
+  /// The robot brakes where it is (an error, or the end of a motion): q kept, dq = 0.
+  virtual void brake(panda::Joints& q, panda::Joints& dq) = 0;
+};
+
+/// The default servo: q ← q + Δt dq_cmd, dq = dq_cmd; the load is ignored.
+class KinematicServo : public JointServo {
+ public:
+  void step(const panda::Joints& dq_cmd, const Eigen::Vector3d&, const Eigen::Vector3d&, panda::Joints& q,
+            panda::Joints& dq) override;
+  void brake(panda::Joints&, panda::Joints& dq) override { dq.setZero(); }
 };
 
 class Arm {
  public:
-  /// Registers an arm at q0 under `address` (replacing any other); remove() it after use.
-  static std::shared_ptr<Arm> create(const std::string& address, const panda::Joints& q0 = panda::readyPose());
+  /// Registers an arm at q0 under `address` (replacing any other); remove() it after use. The
+  /// servo's state must be q0 at rest (null: a KinematicServo).
+  static std::shared_ptr<Arm> create(const std::string& address, const panda::Joints& q0 = panda::readyPose(),
+                                     std::shared_ptr<JointServo> servo = nullptr);
   static void remove(const std::string& address);
   /// The arm registered under `address`, or null.
   static std::shared_ptr<Arm> find(const std::string& address);
 
-  explicit Arm(const panda::Joints& q0);
+  explicit Arm(const panda::Joints& q0, std::shared_ptr<JointServo> servo = nullptr);
 
+  /// The load on the flange's body, held until changed: force f (N, {O}) at point p (m, {O}),
+  /// what a contact at the sensor pushes back with. Only a dynamic servo feels it. Throws
+  /// std::invalid_argument on a non-finite value (the load kept).
+  void setLoad(const Eigen::Vector3d& f, const Eigen::Vector3d& p);
   /// The next 1 kHz cycle raises a ControlException with this text (a reflex).
   void injectReflex(const std::string& what);
   /// Lockstep with a simulation (off by default): control() runs a 1 kHz cycle only when
@@ -83,6 +115,8 @@ class Arm {
 
   mutable std::mutex mutex_;
   panda::Joints q_, dq_ = panda::Joints::Zero();
+  std::shared_ptr<JointServo> servo_;
+  Eigen::Vector3d load_f_ = Eigen::Vector3d::Zero(), load_p_ = Eigen::Vector3d::Zero();
   std::uint64_t time_ms_ = 0;
   bool faulted_ = false, lockstep_ = false, in_control_ = false;
   int permits_ = 0, ran_ = 0;
