@@ -43,7 +43,7 @@ template <class Scalar, class Filter = DiscriminativeBayesFilter<SE3<Scalar>>>
 /// Dual-arm pushing with a centralised follower feedforward (Section 3.3.4,
 /// sec:single_dual_arm_controllers): DualArmPushing plus the follower's v_push (and v_op) from
 /// both arms' poses and the leader's command (the header comment gives the law).
-class CentralisedDualArmPushing {
+class CentralisedDualArmPushing : public Configurable<CentralisedDualArmPushing<Scalar, Filter>> {
  public:
   using Arms = DualArmPushing<Scalar, Filter>;  ///< the two controllers and filters it drives
   using Group = typename Arms::Group;  ///< SE(3)
@@ -66,7 +66,7 @@ class CentralisedDualArmPushing {
   /// Configures with `options` (configurationStatus() keeps the result), with the arms' filters.
   CentralisedDualArmPushing(const Options& options, const Filter& leader_filter, const Filter& follower_filter)
       : arms_(options.arms, leader_filter, follower_filter) {
-    config_status_ = configure(options);
+    this->configureOnConstruction(options);
   }
 
   /// ok, or the first reason: the two arms' options (DualArmPushing::validate),
@@ -79,14 +79,7 @@ class CentralisedDualArmPushing {
   }
 
   /// Replaces the options (controller and filter states kept); invalid options change nothing.
-  Status configure(const Options& options) noexcept {
-    const Status s = validate(options);
-    if (s != Status::ok) return s;
-    if (const Status a = arms_.configure(options.arms); a != Status::ok) return a;
-    options_ = options;
-    config_status_ = Status::ok;
-    return Status::ok;
-  }
+  Status configure(const Options& options) noexcept { return this->configureChecked(options); }
 
   /// Steps both filters and controllers (as DualArmPushing::step), then adds the centralised
   /// feedforward to the follower's twist. Non-finite or non-orthonormal poses and bad
@@ -94,7 +87,7 @@ class CentralisedDualArmPushing {
   /// numerical_failure, nothing changes.
   Status step(const ArmInput& leader_in, const ArmInput& follower_in, Scalar dt, ArmOutput& leader_out,
               ArmOutput& follower_out) noexcept {
-    if (config_status_ != Status::ok) return config_status_;
+    if (const Status c = this->configurationStatus(); c != Status::ok) return c;
     const Arms backup = arms_;
     ArmOutput lo, fo;
     const Status s = arms_.step(leader_in, follower_in, dt, lo, fo);  // its filters check both poses
@@ -135,13 +128,18 @@ class CentralisedDualArmPushing {
   const typename Arms::Leader& leader() const noexcept { return arms_.leader(); }  ///< the leader's controller
   const typename Arms::Follower& follower() const noexcept { return arms_.follower(); }  ///< the follower's controller
   const Options& options() const noexcept { return options_; }  ///< the options in force
-  Status configurationStatus() const noexcept { return config_status_; }  ///< ok, or why the constructor's options were refused: step() returns it until a configure() succeeds (a configure() that fails changes nothing, this included)
 
  private:
+  friend class Configurable<CentralisedDualArmPushing>;
+  Status apply(const Options& options) noexcept {  // validated (Configurable)
+    if (const Status a = arms_.configure(options.arms); a != Status::ok) return a;
+    options_ = options;
+    return Status::ok;
+  }
+
   Arms arms_{};
   Options options_{};
   Tangent feedforward_ = Tangent::Zero();
-  Status config_status_ = Status::ok;
 };
 
 /// The paper's dual-arm presets (dualArmPushingPreset: Table 8 leader, Table 9 follower, the

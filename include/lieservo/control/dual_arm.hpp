@@ -19,6 +19,7 @@
 
 #include <Eigen/Core>
 
+#include <lieservo/configurable.hpp>
 #include <lieservo/control/presets.hpp>
 #include <lieservo/control/pushing_controller.hpp>
 #include <lieservo/control/tactile_servo_controller.hpp>
@@ -35,7 +36,7 @@ namespace lieservo {
 /// (a ConcentratedGaussian<SE3<Scalar>> or anything with a `mean` member): the lifecycle of
 /// DiscriminativeBayesFilter.
 template <class Scalar, class Filter = DiscriminativeBayesFilter<SE3<Scalar>>>
-class DualArmPushing {
+class DualArmPushing : public Configurable<DualArmPushing<Scalar, Filter>> {
  public:
   using Group = SE3<Scalar>;  ///< poses of sensors, features and targets
   using Tangent = typename Group::Tangent;  ///< a twist [v; ω]
@@ -66,7 +67,7 @@ class DualArmPushing {
   /// Configures with `options` (configurationStatus() keeps the result), with the arms' filters.
   DualArmPushing(const Options& options, const Filter& leader_filter, const Filter& follower_filter)
       : leader_filter_(leader_filter), follower_filter_(follower_filter) {
-    config_status_ = configure(options);
+    this->configureOnConstruction(options);
   }
 
   /// ok, or the leader's, then the follower's validate() Status.
@@ -77,20 +78,14 @@ class DualArmPushing {
 
   /// Replaces both controllers' options (states kept); invalid options change nothing and
   /// return validate()'s Status.
-  Status configure(const Options& options) noexcept {
-    if (const Status s = validate(options); s != Status::ok) return s;
-    if (const Status s = leader_.configure(options.leader); s != Status::ok) return s;
-    if (const Status s = follower_.configure(options.follower); s != Status::ok) return s;
-    config_status_ = Status::ok;
-    return Status::ok;
-  }
+  Status configure(const Options& options) noexcept { return this->configureChecked(options); }
 
   /// Steps both filters and both controllers with the same dt (the filters initialise on
   /// their first step).  Non-finite or non-orthonormal poses: non_finite_input /
   /// not_orthonormal from the filter that checks them, and nothing changes (rolled back).
   Status step(const ArmInput& leader_in, const ArmInput& follower_in, Scalar dt, ArmOutput& leader_out,
               ArmOutput& follower_out) noexcept {
-    if (config_status_ != Status::ok) return config_status_;
+    if (const Status c = this->configurationStatus(); c != Status::ok) return c;
     if (!(dt > Scalar(0)) || !std::isfinite(dt)) return Status::invalid_time_step;
 
     const Filter leader_filter_backup = leader_filter_;
@@ -160,9 +155,14 @@ class DualArmPushing {
   Follower& follower() noexcept { return follower_; }  ///< the follower's controller
   const Filter& leaderFilter() const noexcept { return leader_filter_; }  ///< the leader's filter
   const Filter& followerFilter() const noexcept { return follower_filter_; }  ///< the follower's filter
-  Status configurationStatus() const noexcept { return config_status_; }  ///< ok, or why the constructor's options were refused: step() returns it until a configure() succeeds (a configure() that fails changes nothing, this included)
 
  private:
+  friend class Configurable<DualArmPushing>;
+  Status apply(const Options& options) noexcept {  // validated (Configurable)
+    if (const Status s = leader_.configure(options.leader); s != Status::ok) return s;
+    return follower_.configure(options.follower);
+  }
+
   static Status filterStep(Filter& filter, const ArmInput& in, ArmOutput& out) noexcept {
     const Status s = filter.step(in.sensor_pose, in.observation);
     if (s != Status::ok && s != Status::outlier_rejected) return s;
@@ -175,7 +175,6 @@ class DualArmPushing {
   Follower follower_{};
   Filter leader_filter_{};
   Filter follower_filter_{};
-  Status config_status_ = Status::ok;
 };
 
 /// Options for the paper's dual-arm pushing (Table 8 dual-arm leader + Table 9 follower),

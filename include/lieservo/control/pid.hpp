@@ -30,6 +30,7 @@
 
 #include <Eigen/Core>
 
+#include <lieservo/configurable.hpp>
 #include <lieservo/detail/finite.hpp>
 #include <lieservo/detail/flatten.hpp>
 #include <lieservo/status.hpp>
@@ -39,7 +40,7 @@ namespace lieservo {
 /// Multi-input multi-output PID with feedforward (eq. 19, eqn:ff_fb_pid_control).  N channels;
 /// gains are full N×N matrices (the paper uses diagonal ones: see Options::diagonal).
 template <class Scalar, int N>
-class MimoPid {
+class MimoPid : public Configurable<MimoPid<Scalar, N>> {
   static_assert(N > 0, "MimoPid needs a fixed, positive number of channels");
 
  public:
@@ -101,7 +102,7 @@ class MimoPid {
 
   /// Configures with `options`; if they are invalid the controller refuses to run
   /// (step() returns configurationStatus(), i.e. Status::invalid_argument).
-  explicit MimoPid(const Options& options) { config_status_ = configure(options); }
+  explicit MimoPid(const Options& options) { this->configureOnConstruction(options); }
 
   /// Checks options: finite gains; clip bounds not NaN with min ≤ max, each range holding a
   /// finite value (±inf allowed as open ends, but not [+inf, +inf] or [−inf, −inf]);
@@ -126,20 +127,7 @@ class MimoPid {
 
   /// Replaces the options (state kept; the integral is re-clipped into the new bounds).
   /// Invalid options: returns Status::invalid_argument and changes nothing.
-  Status configure(const Options& options) noexcept {
-    const Status s = validate(options);
-    if (s != Status::ok) return s;
-    options_ = options;
-    // The paper's gains are diagonal: then step() multiplies per channel (N instead of N²).
-    diagonal_gains_ = isDiagonal(options_.kp) && isDiagonal(options_.ki) && isDiagonal(options_.kd);
-    kp_diag_ = options_.kp.diagonal();
-    ki_diag_ = options_.ki.diagonal();
-    kd_diag_ = options_.kd.diagonal();
-    integral_ = integral_.cwiseMax(options_.integral_min).cwiseMin(options_.integral_max);
-    alpha_dt_ = Scalar(0);  // the memo below belongs to the old options
-    config_status_ = Status::ok;
-    return Status::ok;
-  }
+  Status configure(const Options& options) noexcept { return this->configureChecked(options); }
 
   /// One control step.  `error` e_k, `feedforward` v_k, time step dt_k > 0 since the last
   /// step (the first step after construction/reset uses dt only for the integral).
@@ -147,7 +135,7 @@ class MimoPid {
   /// has a NaN/inf; Status::numerical_failure if the result overflows.  On failure nothing
   /// changes, `u` included.
   LIESERVO_FLATTEN Status step(const Vector& error, const Vector& feedforward, Scalar dt, Vector& u) noexcept {
-    if (config_status_ != Status::ok) return config_status_;
+    if (const Status c = this->configurationStatus(); c != Status::ok) return c;
     if (!(dt > Scalar(0)) || !std::isfinite(dt)) return Status::invalid_time_step;
     if (!detail::allFinite(error, feedforward)) return Status::non_finite_input;
 
@@ -217,7 +205,6 @@ class MimoPid {
   }
 
   const Options& options() const noexcept { return options_; }  ///< the options in force
-  Status configurationStatus() const noexcept { return config_status_; }  ///< ok, or why the constructor's options were refused: step() returns it until a configure() succeeds (a configure() that fails changes nothing, this included)
   const Vector& integral() const noexcept { return integral_; }       ///< clipped ∫e dt
   const Vector& smoothedError() const noexcept { return smoothed_; }  ///< ē_k
   const Vector& derivative() const noexcept { return derivative_; }   ///< (ē_k − ē_{k−1})/dt
@@ -226,8 +213,20 @@ class MimoPid {
   long steps() const noexcept { return steps_; }  ///< successful steps since construction or reset()
 
  private:
+  friend class Configurable<MimoPid>;
+  Status apply(const Options& options) noexcept {  // validated (Configurable)
+    options_ = options;
+    // The paper's gains are diagonal: then step() multiplies per channel (N instead of N²).
+    diagonal_gains_ = isDiagonal(options_.kp) && isDiagonal(options_.ki) && isDiagonal(options_.kd);
+    kp_diag_ = options_.kp.diagonal();
+    ki_diag_ = options_.ki.diagonal();
+    kd_diag_ = options_.kd.diagonal();
+    integral_ = integral_.cwiseMax(options_.integral_min).cwiseMin(options_.integral_max);
+    alpha_dt_ = Scalar(0);  // the memo below belongs to the old options
+    return Status::ok;
+  }
+
   Options options_{};
-  Status config_status_ = Status::ok;
   Vector integral_ = Vector::Zero();
   Vector smoothed_ = Vector::Zero();
   Vector derivative_ = Vector::Zero();
@@ -258,7 +257,7 @@ class MimoPid {
 /// Single-input single-output PID with feedforward (the paper's target-alignment "PID 2",
 /// Section 3.3.3 (sec:pushing_controller)).  Same update law and contract as MimoPid with N = 1.
 template <class Scalar>
-class SisoPid {
+class SisoPid : public Configurable<SisoPid<Scalar>> {
   using Impl = MimoPid<Scalar, 1>;
 
  public:
@@ -278,7 +277,7 @@ class SisoPid {
 
   SisoPid() = default;  ///< zero gains, no clipping, α = 0.5
   /// Configures with `options` (as MimoPid's constructor).
-  explicit SisoPid(const Options& options) { config_status_ = configure(options); }
+  explicit SisoPid(const Options& options) { this->configureOnConstruction(options); }
 
   /// The same options for MimoPid with N = 1.
   static typename Impl::Options toMimo(const Options& o) {
@@ -298,17 +297,11 @@ class SisoPid {
   static Status validate(const Options& o) noexcept { return Impl::validate(toMimo(o)); }
 
   /// As MimoPid::configure: invalid options change nothing.
-  Status configure(const Options& options) noexcept {
-    const Status s = pid_.configure(toMimo(options));
-    if (s != Status::ok) return s;
-    options_ = options;
-    config_status_ = Status::ok;
-    return Status::ok;
-  }
+  Status configure(const Options& options) noexcept { return this->configureChecked(options); }
 
   /// See MimoPid::step.  On failure nothing changes, `u` included.
   Status step(Scalar error, Scalar feedforward, Scalar dt, Scalar& u) noexcept {
-    if (config_status_ != Status::ok) return config_status_;
+    if (const Status c = this->configurationStatus(); c != Status::ok) return c;
     typename Impl::Vector e, v;
     typename Impl::Vector out = Impl::Vector::Zero();
     e[0] = error;
@@ -321,7 +314,6 @@ class SisoPid {
   void reset() noexcept { pid_.reset(); }  ///< as MimoPid::reset
 
   const Options& options() const noexcept { return options_; }  ///< the options in force
-  Status configurationStatus() const noexcept { return config_status_; }  ///< as MimoPid::configurationStatus
   Scalar integral() const noexcept { return pid_.integral()[0]; }  ///< clipped ∫e dt
   Scalar smoothedError() const noexcept { return pid_.smoothedError()[0]; }  ///< ē_k
   Scalar derivative() const noexcept { return pid_.derivative()[0]; }  ///< (ē_k − ē_{k−1})/dt
@@ -331,9 +323,15 @@ class SisoPid {
   Scalar alpha(Scalar dt) const noexcept { return pid_.alpha(dt); }  ///< the smoothing weight for a step of length dt
 
  private:
+  friend class Configurable<SisoPid>;
+  Status apply(const Options& options) noexcept {  // validated (Configurable)
+    if (const Status s = pid_.configure(toMimo(options)); s != Status::ok) return s;
+    options_ = options;
+    return Status::ok;
+  }
+
   Impl pid_{};
   Options options_{};
-  Status config_status_ = Status::ok;
 };
 
 }  // namespace lieservo

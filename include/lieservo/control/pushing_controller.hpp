@@ -37,6 +37,7 @@
 
 #include <Eigen/Core>
 
+#include <lieservo/configurable.hpp>
 #include <lieservo/control/pid.hpp>
 #include <lieservo/control/tactile_servo_controller.hpp>
 #include <lieservo/groups/perturbation.hpp>
@@ -55,7 +56,7 @@ enum class TerminationDistance {
 template <class Scalar>
 /// The tactile pushing controller (Section 3.3.3, sec:pushing_controller): tactile servoing
 /// plus target alignment by a SISO PID on the bearing (eqs. 21-22); the header comment gives the law.
-class PushingController {
+class PushingController : public Configurable<PushingController<Scalar>> {
  public:
   using Group = SE3<Scalar>;  ///< poses
   using Servo = TactileServoController<Group>;  ///< PID 1: the tactile servo
@@ -75,7 +76,7 @@ class PushingController {
 
   PushingController() = default;
   /// Configures with `options` (configurationStatus() keeps the result).
-  explicit PushingController(const Options& options) { config_status_ = configure(options); }
+  explicit PushingController(const Options& options) { this->configureOnConstruction(options); }
 
   /// ok, or the first reason: the servo's and the alignment PID's validate(), non_finite_input
   /// (a NaN bearing, cut-off or radius; the target's validateElement()), not_orthonormal (the
@@ -91,15 +92,7 @@ class PushingController {
   }
 
   /// Replaces the options (controller states kept; termination latch kept).
-  Status configure(const Options& options) noexcept {
-    const Status s = validate(options);
-    if (s != Status::ok) return s;
-    if (const Status c = servo_.configure(options.servo); c != Status::ok) return c;
-    if (const Status c = alignment_.configure(options.alignment); c != Status::ok) return c;
-    options_ = options;
-    config_status_ = Status::ok;
-    return Status::ok;
-  }
+  Status configure(const Options& options) noexcept { return this->configureChecked(options); }
 
   /// New target X_wt; clears the termination latch. non_finite_input / not_orthonormal
   /// (validateElement) leave the target and the latch unchanged.
@@ -124,7 +117,7 @@ class PushingController {
   /// gives non_finite_input / not_orthonormal.  On any non-ok Status nothing changes.
   Status step(const Group& sensor_in_work, const Group& feature_in_sensor, Scalar dt,
               Tangent& u) noexcept {
-    if (config_status_ != Status::ok) return config_status_;
+    if (const Status c = this->configurationStatus(); c != Status::ok) return c;
     if (!(dt > Scalar(0)) || !std::isfinite(dt)) return Status::invalid_time_step;
     Status s = validateElement(sensor_in_work);
     if (s == Status::ok) s = validateElement(feature_in_sensor);
@@ -229,11 +222,17 @@ class PushingController {
   const Servo& servo() const noexcept { return servo_; }  ///< PID 1
   const Alignment& alignment() const noexcept { return alignment_; }  ///< PID 2
   const Options& options() const noexcept { return options_; }  ///< the options in force
-  Status configurationStatus() const noexcept { return config_status_; }  ///< ok, or why the constructor's options were refused: step() returns it until a configure() succeeds (a configure() that fails changes nothing, this included)
 
  private:
+  friend class Configurable<PushingController>;
+  Status apply(const Options& options) noexcept {  // validated (Configurable)
+    if (const Status c = servo_.configure(options.servo); c != Status::ok) return c;
+    if (const Status c = alignment_.configure(options.alignment); c != Status::ok) return c;
+    options_ = options;
+    return Status::ok;
+  }
+
   Options options_{};
-  Status config_status_ = Status::ok;
   Servo servo_{};
   Alignment alignment_{};
   bool terminated_ = false;

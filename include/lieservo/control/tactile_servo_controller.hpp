@@ -24,6 +24,7 @@
 
 #include <Eigen/Core>
 
+#include <lieservo/configurable.hpp>
 #include <lieservo/control/pid.hpp>
 #include <lieservo/detail/flatten.hpp>
 #include <lieservo/groups/perturbation.hpp>
@@ -34,7 +35,7 @@ namespace lieservo {
 template <class G>
 /// The tactile servoing controller (Section 3.3.2, sec:servoing_controller): a feedforward-
 /// feedback MIMO PID on the tangent-space servo error (eqs. 18-20); the header comment gives the law.
-class TactileServoController {
+class TactileServoController : public Configurable<TactileServoController<G>> {
  public:
   using Group = G;  ///< the pose group (SE3, SE2, SO3, SO2)
   using Scalar = typename G::Scalar;  ///< float or double
@@ -53,7 +54,7 @@ class TactileServoController {
   TactileServoController() = default;
 
   /// Configures with `options`; invalid options make step() return Status::invalid_argument.
-  explicit TactileServoController(const Options& options) { config_status_ = configure(options); }
+  explicit TactileServoController(const Options& options) { this->configureOnConstruction(options); }
 
   /// ok, or the first reason: the reference's validateElement() Status (non_finite_input,
   /// not_orthonormal), non_finite_input (a NaN or infinite feedforward, as setFeedforward), or
@@ -65,16 +66,7 @@ class TactileServoController {
   }
 
   /// Replaces the options; the PID state is kept (see MimoPid::configure).
-  Status configure(const Options& options) noexcept {
-    const Status s = validate(options);
-    if (s != Status::ok) return s;
-    const Status p = pid_.configure(options.pid);
-    if (p != Status::ok) return p;
-    options_ = options;
-    feedforward_is_zero_ = options_.feedforward.isZero(Scalar(0));
-    config_status_ = Status::ok;
-    return Status::ok;
-  }
+  Status configure(const Options& options) noexcept { return this->configureChecked(options); }
 
   /// New reference sensor pose X_fs' (e.g. the paper's ±0.5 mm tall-object offsets).
   /// non_finite_input / not_orthonormal (validateElement) leave the reference unchanged.
@@ -104,7 +96,7 @@ class TactileServoController {
   /// X_sf gives non_finite_input / not_orthonormal.  On any non-ok Status nothing changes
   /// (u, error(), PID state).
   LIESERVO_FLATTEN Status step(const G& feature_in_sensor, Scalar dt, Tangent& u) noexcept {
-    if (config_status_ != Status::ok) return config_status_;
+    if (const Status c = this->configurationStatus(); c != Status::ok) return c;
     if (!(dt > Scalar(0)) || !std::isfinite(dt)) return Status::invalid_time_step;
     const Status c = validateElement(feature_in_sensor);
     if (c != Status::ok) return c;
@@ -145,11 +137,17 @@ class TactileServoController {
   const Tangent& feedforwardInSensorFrame() const noexcept { return feedforward_sensor_; }
   const Pid& pid() const noexcept { return pid_; }  ///< the feedback PID
   const Options& options() const noexcept { return options_; }  ///< the options in force
-  Status configurationStatus() const noexcept { return config_status_; }  ///< ok, or why the constructor's options were refused: step() returns it until a configure() succeeds (a configure() that fails changes nothing, this included)
 
  private:
+  friend class Configurable<TactileServoController>;
+  Status apply(const Options& options) noexcept {  // validated (Configurable)
+    if (const Status p = pid_.configure(options.pid); p != Status::ok) return p;
+    options_ = options;
+    feedforward_is_zero_ = options_.feedforward.isZero(Scalar(0));
+    return Status::ok;
+  }
+
   Options options_{};
-  Status config_status_ = Status::ok;
   Pid pid_{};
   G error_pose_ = G::identity();
   Tangent error_ = Tangent::Zero();

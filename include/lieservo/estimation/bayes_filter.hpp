@@ -22,6 +22,7 @@
 
 #include <Eigen/Core>
 
+#include <lieservo/configurable.hpp>
 #include <lieservo/status.hpp>
 #include <lieservo/estimation/chi_square.hpp>
 #include <lieservo/estimation/concentrated_gaussian.hpp>
@@ -50,7 +51,7 @@ template <class G, class Policy = DefaultJacobian>
 /// The discriminative Bayes filter on a Lie group G (Algorithm 2, alg:se3_bayes_filter):
 /// predict with the sensor's own motion, correct by fusing the observation (Algorithm 3);
 /// the header comment gives the equations and the real-time contract.
-class DiscriminativeBayesFilter {
+class DiscriminativeBayesFilter : public Configurable<DiscriminativeBayesFilter<G, Policy>> {
  public:
   using Group = G;  ///< the state's group
   using Scalar = typename G::Scalar;  ///< float or double
@@ -87,13 +88,10 @@ class DiscriminativeBayesFilter {
     std::uint64_t rejected = 0;     ///< observations rejected by the gate
   };
 
-  DiscriminativeBayesFilter() noexcept { configure(Options()); }
+  DiscriminativeBayesFilter() noexcept { this->configureOnConstruction(Options()); }
   /// Invalid options (see validate) leave the filter unusable: every call returns validate()'s
   /// Status (configurationStatus()) until configure succeeds.
-  explicit DiscriminativeBayesFilter(const Options& options) noexcept {
-    const Status s = configure(options);
-    if (s != Status::ok) options_status_ = s;
-  }
+  explicit DiscriminativeBayesFilter(const Options& options) noexcept { this->configureOnConstruction(options); }
 
   /// ok, or the first reason: the fusion options' (FusionOptions::validate), non_finite_input /
   /// invalid_argument (gate_probability NaN / outside (0, 1)), non_finite_input / not_spd
@@ -108,19 +106,8 @@ class DiscriminativeBayesFilter {
 
   /// Replaces the options (not real-time: computes the gate threshold). State is kept.
   /// Invalid options: the Status says why and nothing changes.
-  Status configure(const Options& o) noexcept {
-    const Status s = validate(o);
-    if (s != Status::ok) return s;
-    options_ = o;
-    detail::symmetrize(options_.process_noise);
-    diag_.gate_threshold =
-        Scalar(chiSquareQuantile(double(o.gate_probability), double(G::DoF)));
-    options_status_ = Status::ok;
-    return Status::ok;
-  }
+  Status configure(const Options& o) noexcept { return this->configureChecked(o); }
   const Options& options() const noexcept { return options_; }  ///< the options in force
-  /// ok, or validate()'s Status for the invalid options the constructor was given.
-  Status configurationStatus() const noexcept { return options_status_; }
 
   /// One step of Algorithm 2 (alg:se3_bayes_filter). The first step after construction or reset() is the
   /// algorithm's initialisation, fil_0 = bel_0 = obs_0, remembering X_0^sens; every later step
@@ -128,7 +115,7 @@ class DiscriminativeBayesFilter {
   /// Atomic: on any error nothing changes; on outlier_rejected the state is the prediction
   /// (and the sensor pose is advanced).
   Status step(const G& sensor_pose, const Gaussian& observation) noexcept {
-    if (options_status_ != Status::ok) return diag_.last_status = options_status_;
+    if (const Status c = this->configurationStatus(); c != Status::ok) return diag_.last_status = c;
     Status s = validateElement(sensor_pose);
     if (s != Status::ok) return diag_.last_status = s;
     if (!initialised_) return initialise(sensor_pose, observation);
@@ -154,7 +141,7 @@ class DiscriminativeBayesFilter {
   /// X_{k−1} and X_k in the world, T̄ = X_k⁻¹ X_{k−1} (as step() forms it), the INVERSE of the
   /// sensor's odometry increment X_{k−1}⁻¹ X_k.
   Status predict(const G& T_bar) noexcept {
-    if (options_status_ != Status::ok) return diag_.last_status = options_status_;
+    if (const Status c = this->configurationStatus(); c != Status::ok) return diag_.last_status = c;
     if (!initialised_) return diag_.last_status = Status::not_initialised;
     Status s = validateElement(T_bar);
     if (s != Status::ok) return diag_.last_status = s;
@@ -171,7 +158,7 @@ class DiscriminativeBayesFilter {
   /// pose in the previous sensor frame, the increment a robot or an odometry source reports):
   /// predict(ΔX⁻¹). The same refusals as predict(), checked on ΔX; state unchanged on error.
   Status predictFromOdometry(const G& sensor_increment) noexcept {
-    if (options_status_ != Status::ok) return diag_.last_status = options_status_;
+    if (const Status c = this->configurationStatus(); c != Status::ok) return diag_.last_status = c;
     if (!initialised_) return diag_.last_status = Status::not_initialised;
     const Status s = validateElement(sensor_increment);
     if (s != Status::ok) return diag_.last_status = s;
@@ -181,7 +168,7 @@ class DiscriminativeBayesFilter {
   /// Correction only (eq. 13, eqn:bayes_filter_correction): fuses the observation with the current
   /// state (the belief after predict()). outlier_rejected leaves the state as it was.
   Status correct(const Gaussian& observation) noexcept {
-    if (options_status_ != Status::ok) return diag_.last_status = options_status_;
+    if (const Status c = this->configurationStatus(); c != Status::ok) return diag_.last_status = c;
     if (!initialised_) return diag_.last_status = Status::not_initialised;
     Jacobian L_bel;
     Status s = detail::choleskyChecked(filtered_.covariance, L_bel);
@@ -213,6 +200,14 @@ class DiscriminativeBayesFilter {
   }
 
  private:
+  friend class Configurable<DiscriminativeBayesFilter>;
+  Status apply(const Options& o) noexcept {  // validated (Configurable); not real-time: the gate threshold
+    options_ = o;
+    detail::symmetrize(options_.process_noise);
+    diag_.gate_threshold = Scalar(chiSquareQuantile(double(o.gate_probability), double(G::DoF)));
+    return Status::ok;
+  }
+
   // Initialisation of Algorithm 2 (alg:se3_bayes_filter): fil_0 = bel_0 = obs_0 (step() checked the pose).
   Status initialise(const G& sensor_pose, const Gaussian& first_observation) noexcept {
     const Status s = first_observation.validate();
@@ -295,7 +290,6 @@ class DiscriminativeBayesFilter {
   }
 
   Options options_{};
-  Status options_status_ = Status::ok;
   Gaussian belief_{};
   Gaussian filtered_{};
   G sensor_pose_{};
