@@ -2,7 +2,8 @@
 //
 // lieservo_demo (examples/sim) calls lieservoDemoReplay() after the four simulated tasks
 // when this file is linked in (see examples/sim/CMakeLists.txt). The network outputs are
-// cached in the results folder, so a second run of the demo replays in about a second.
+// cached in the results folder, so a second run of the demo replays in about a second; with
+// --no-files (no results folder) nothing is written.
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -46,8 +47,7 @@ bool lieservoDemoReplay(const std::string& out_dir, int quick_images) {
     reportFrameRate(opt.data_dir, opt.models_dir);
     return true;  // the data set is optional; nothing failed
   }
-  opt.cache_file = out_dir + "/replay_network_outputs.txt";
-  opt.plot_dir = out_dir + "/replay";
+  rp::setDemoOutputs(opt, out_dir);
   opt.verbose = false;
   try {
     const rp::ReplayResults r = rp::runReplay(opt);

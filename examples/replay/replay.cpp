@@ -283,6 +283,11 @@ FilterRun replayFilter(const std::vector<Sample>& samples, const std::vector<Con
   return run;
 }
 
+void setDemoOutputs(ReplayOptions& opt, const std::string& out_dir) {
+  opt.cache_file = out_dir.empty() ? std::string() : out_dir + "/replay_network_outputs.txt";
+  opt.plot_dir = out_dir.empty() ? std::string() : out_dir + "/replay";
+}
+
 ReplayResults runReplay(const ReplayOptions& opt) {
   const auto t0 = Clock::now();
   const std::clock_t c0 = std::clock();

@@ -102,6 +102,11 @@ std::string splitRole(const std::string& card_path, const std::string& split);
 /// (message names the path). The CNN is optional (skipped with a note when absent).
 ReplayResults runReplay(const ReplayOptions& options);
 
+/// Where the main job's replay writes, in its results folder `out_dir`: the network-output
+/// cache (out_dir/replay_network_outputs.txt) and the plots (out_dir/replay); nothing when
+/// out_dir is empty (lieservo_demo --no-files writes no file).
+void setDemoOutputs(ReplayOptions& options, const std::string& out_dir);
+
 /// Label ξ = log(X_fs⁻¹)^∨ (mm, rad) of a targets.csv row's Euler 6-vector
 /// (x, y, z, α, β, γ) = (shear_x, shear_y, pose_z, pose_Rx, pose_Ry, shear_Rz), mm and deg.
 Vec6 labelFromEulerDegrees(const Vec6& euler_mm_deg);

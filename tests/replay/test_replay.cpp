@@ -383,3 +383,14 @@ TEST_CASE("replay: --split replays another split of the data", "[replay][data]")
   o.split = "no_such_split";
   CHECK_THROWS_WITH(runReplay(o), Catch::Matchers::Contains("no_such_split/targets.csv"));
 }
+
+TEST_CASE("replay: the main job's files go into its results folder, none without one", "[replay]") {
+  ReplayOptions opt;
+  setDemoOutputs(opt, "results");
+  CHECK(opt.cache_file == "results/replay_network_outputs.txt");
+  CHECK(opt.plot_dir == "results/replay");
+  // lieservo_demo --no-files: no folder, so no cache and no plots (not "/replay…" at the root).
+  setDemoOutputs(opt, "");
+  CHECK(opt.cache_file.empty());
+  CHECK(opt.plot_dir.empty());
+}
