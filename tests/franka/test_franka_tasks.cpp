@@ -1,6 +1,7 @@
-// Two tasks through the Franka adapter, each beside the driven-body run of the same scene:
+// Three tasks through the Franka adapter, each beside the driven-body run of the same scene:
 // single-arm pushing of the paper's blue square on MDF (Section 5.6,
-// sec:single_arm_object_pushing_exp) and surface following on the curved ramp (Section 5.5,
+// sec:single_arm_object_pushing_exp), dual-arm pushing of it with two Pandas (Section 5.7,
+// the paper's leader and follower) and surface following on the curved ramp (Section 5.5,
 // sec:surface_follow_exp), with examples/franka/franka_adapter.cpp, unchanged, driving the
 // simulated Panda of the libfranka test double. The tactile loop (this thread, 20 Hz of
 // simulated time) observes the contact in the MuJoCo world, filters it and runs the task's
@@ -25,6 +26,9 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <vector>
+#include <algorithm>
+#include <initializer_list>
 
 #include <franka_adapter.hpp>
 #include <franka_sim/arm.h>
@@ -147,29 +151,34 @@ LoopOutcome tactileLoop(mujoco::World& world, const ContactParams& contact_param
   return out;
 }
 
-/// The driven-body robot: the world's sensor 0 follows the commanded twist exactly (the tasks'
+/// The driven-body robot: the world's sensors follow the commanded twists exactly (the tasks'
 /// world, MujocoSensorArm), `substeps` world steps of h per period.
-struct DrivenBody {
+struct DrivenBodies {
   mujoco::World& world;
-  MujocoSensorArm body;
+  std::vector<MujocoSensorArm> bodies;
+  std::vector<SE3d::Tangent> u_now;
   int substeps;
   double h;
-  SE3d::Tangent u_now = SE3d::Tangent::Zero();
 
-  DrivenBody(mujoco::World& w, int n, double step) : world(w), body(w, 0), substeps(n), h(step) {}
-  Status command(const SE3d::Tangent& u, bool) {
-    u_now = u;
+  DrivenBodies(mujoco::World& w, int n, double step) : world(w), substeps(n), h(step) {
+    for (int s = 0; s < w.sensorCount(); ++s) bodies.emplace_back(w, s);
+    u_now.assign(bodies.size(), SE3d::Tangent::Zero());
+  }
+  Status command(int arm, const SE3d::Tangent& u, bool) {
+    u_now[std::size_t(arm)] = u;
     return Status::ok;
   }
   Status runPeriod() {
     for (int j = 0; j < substeps; ++j) {
-      Status s = body.commandVelocity(u_now, h);
-      if (s == Status::ok) s = world.step(h);
-      if (s != Status::ok) return s;
+      for (std::size_t a = 0; a < bodies.size(); ++a) {
+        const Status s = bodies[a].commandVelocity(u_now[a], h);
+        if (s != Status::ok) return s;
+      }
+      if (const Status s = world.step(h); s != Status::ok) return s;
     }
     return Status::ok;
   }
-  Status pose(SE3d& X) { return body.readPose(X); }
+  Status pose(int arm, SE3d& X) { return bodies[std::size_t(arm)].readPose(X); }
 };
 
 /// The double's joints as the MuJoCo Panda moves them under its joint controller
@@ -199,56 +208,48 @@ class DynamicServo : public franka_sim::JointServo {
   panda::PandaDynamics arm_;
 };
 
-/// The Panda of the libfranka test double holding the world's sensor 0, commanded through
-/// FrankaAdapter as on hardware. Its joints move under MuJoCo's dynamics (DynamicServo) and
-/// carry the contact's load: before each world step the arm is given the force the world's
+/// The Panda of the libfranka test double holding the world's sensor `sensor`, commanded
+/// through FrankaAdapter as on hardware. Its joints move under MuJoCo's dynamics (DynamicServo)
+/// and carry the contact's load: before each world step the arm is given the force the world's
 /// tip feels, at the contact point. The Panda starts at its ready pose with the sensor at the
-/// scene's start: the mount X_ES puts the tip 100 mm beyond the flange along its z, turned so
-/// that the base stands upright (R_wO = 1), and the base goes where that puts it. The arm runs
-/// in lockstep with the world: 2 or 3 arm cycles of 1 ms per 2.5 ms world step.
+/// scene's start: its base stands upright, turned by `base_yaw` about the vertical, the mount
+/// X_ES puts the tip 100 mm beyond the flange along its z (the same right-angle mount for every
+/// arm when the bases face each other), and the base goes where that puts it. The arm runs in
+/// lockstep with the world: 2 or 3 arm cycles of 1 ms per 2.5 ms world step (runPeriods).
 class AdapterRig {
  public:
-  AdapterRig(const std::string& address, mujoco::World& world, int substeps, double h)
+  AdapterRig(const std::string& address, mujoco::World& world, int sensor = 0, double base_yaw = 0)
       : address_(address),
         servo_(std::make_shared<DynamicServo>(panda::readyPose())),
         arm_(franka_sim::Arm::create(address, panda::readyPose(), servo_)),
         remove_{address},
         world_(world),
-        substeps_(substeps),
-        h_(h),
-        X_ES_(mount(world)),
-        X_wO_(world.sensorPose(0) * (flangeMm(panda::readyPose()) * X_ES_).inverse()),
+        sensor_(sensor),
+        X_ES_(mount(world, sensor, base_yaw)),
+        X_wO_(world.sensorPose(sensor) * (flangeMm(panda::readyPose()) * X_ES_).inverse()),
         adapter_(options(address, X_ES_, X_wO_)) {
-    REQUIRE((X_wO_.rotationMatrix() - Eigen::Matrix3d::Identity()).norm() < 1e-12);
+    REQUIRE((X_wO_.rotationMatrix() - rotZ(base_yaw)).norm() < 1e-12);
     arm_->setLockstep(true);
   }
 
   Status command(const SE3d::Tangent& u, bool in_contact) { return adapter_.commandVelocity(u, kDt, in_contact); }
 
-  Status runPeriod() {
-    // The adapter starts its control loop on the first command: wait for it (≤ 2 s).
-    for (int i = 0; i < 2000 && !arm_->inControl(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    if (!arm_->inControl()) return Status::device_error;
-    for (int j = 0; j < substeps_; ++j) {
+  /// One tactile period of the world with this arm alone.
+  Status runPeriod() { return runPeriods(world_, {this}); }
+
+  /// One tactile period (substeps world steps of h) of the world with the arms together.
+  static Status runPeriods(mujoco::World& world, std::initializer_list<AdapterRig*> rigs) {
+    const int substeps = stepsPerPeriod(kDt);
+    const double h = kDt / substeps;
+    for (AdapterRig* r : rigs)
+      if (const Status s = r->awaitControl(); s != Status::ok) return s;
+    for (int j = 0; j < substeps; ++j) {
       const int cycles = j % 2 == 0 ? 2 : 3;  // 50 cycles of 1 ms per 20 steps of 2.5 ms
-      // The load: the tip's push on what it touches, reversed, at the contact point (m, {O}).
-      const mujoco::TipGeometry tip = world_.tipGeometry(0);
-      const Vec3 f_w = -world_.tipContactForce(0);
-      const Vec3 p_w = tip.valid ? tip.point_w : world_.sensorPose(0).translation();
-      max_load_ = std::max(max_load_, f_w.norm());
-      arm_->setLoad(X_wO_.rotationMatrix().transpose() * f_w, (X_wO_.inverse() * p_w) * 1e-3);
-      if (arm_->advance(cycles) != cycles) return Status::device_error;
-      // The world's sensor follows the flange: the body twist that takes it there in h.
-      const SE3d X_arm = X_wO_ * flangeMm(arm_->joints()) * X_ES_;
-      const SE3d X_world = world_.sensorPose(0);
-      max_pose_gap_ = std::max(max_pose_gap_, (X_arm.translation() - X_world.translation()).norm());
-      Status s = world_.setSensorTwist(0, (X_world.inverse() * X_arm).log() / h_);
-      if (s == Status::ok) s = world_.step(h_);
-      if (s != Status::ok) return s;
+      for (AdapterRig* r : rigs)
+        if (const Status s = r->armCycles(cycles, h); s != Status::ok) return s;
+      if (const Status s = world.step(h); s != Status::ok) return s;
     }
-    const auto state = adapter_.stats().watchdog;
-    if (state == lieservo::realtime::WatchdogState::waiting) ++waiting_;  // arming: 3 fresh commands
-    else if (state != lieservo::realtime::WatchdogState::active) ++trips_;
+    for (AdapterRig* r : rigs) r->countWatchdog();
     return Status::ok;
   }
 
@@ -299,9 +300,36 @@ class AdapterRig {
   }
 
  private:
-  static SE3d mount(const mujoco::World& world) {
+  // The adapter starts its control loop on the first command: wait for it (≤ 2 s).
+  Status awaitControl() {
+    for (int i = 0; i < 2000 && !arm_->inControl(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    return arm_->inControl() ? Status::ok : Status::device_error;
+  }
+  // The arm's share of one world step of h: the load, its 1 kHz cycles, and the world's sensor
+  // sent after the flange.
+  Status armCycles(int cycles, double h) {
+    // The load: the tip's push on what it touches, reversed, at the contact point (m, {O}).
+    const mujoco::TipGeometry tip = world_.tipGeometry(sensor_);
+    const Vec3 f_w = -world_.tipContactForce(sensor_);
+    const Vec3 p_w = tip.valid ? tip.point_w : world_.sensorPose(sensor_).translation();
+    max_load_ = std::max(max_load_, f_w.norm());
+    arm_->setLoad(X_wO_.rotationMatrix().transpose() * f_w, (X_wO_.inverse() * p_w) * 1e-3);
+    if (arm_->advance(cycles) != cycles) return Status::device_error;
+    // The world's sensor follows the flange: the body twist that takes it there in h.
+    const SE3d X_arm = X_wO_ * flangeMm(arm_->joints()) * X_ES_;
+    const SE3d X_world = world_.sensorPose(sensor_);
+    max_pose_gap_ = std::max(max_pose_gap_, (X_arm.translation() - X_world.translation()).norm());
+    return world_.setSensorTwist(sensor_, (X_world.inverse() * X_arm).log() / h);
+  }
+  void countWatchdog() {
+    const auto state = adapter_.stats().watchdog;
+    if (state == lieservo::realtime::WatchdogState::waiting) ++waiting_;  // arming: 3 fresh commands
+    else if (state != lieservo::realtime::WatchdogState::active) ++trips_;
+  }
+  static SE3d mount(const mujoco::World& world, int sensor, double base_yaw) {
     const SE3d X_OE0 = flangeMm(panda::readyPose());
-    return SE3d(SO3d::fromMatrixUnchecked(X_OE0.rotationMatrix().transpose() * world.sensorPose(0).rotationMatrix()),
+    return SE3d(SO3d::fromMatrixUnchecked(X_OE0.rotationMatrix().transpose() * rotZ(base_yaw).transpose() *
+                                          world.sensorPose(sensor).rotationMatrix()),
                 Vec3(0, 0, 100));
   }
   static FrankaAdapterOptions options(const std::string& address, const SE3d& X_ES, const SE3d& X_wO) {
@@ -322,13 +350,95 @@ class AdapterRig {
   std::shared_ptr<franka_sim::Arm> arm_;
   Remove remove_;
   mujoco::World& world_;
-  int substeps_;
-  double h_;
+  int sensor_;
   SE3d X_ES_, X_wO_;
   FrankaAdapter adapter_;
   double max_pose_gap_ = 0, max_load_ = 0;
   long trips_ = 0, waiting_ = 0;  // periods ending with the watchdog tripped, or still arming
 };
+
+/// The pushing scene with the follower opposite the leader (the demo's dual-arm set-up): its
+/// axis along −x through the object's centre, into the far face, x_s down, 3 mm deep.
+mujoco::SceneSpec dualPushingScene(const ContactParams& contact, double h) {
+  mujoco::SceneSpec scene = pushingScene(contact, h);
+  const ObjectSpec& o = scene.objects.front();
+  const Vec3 at(o.x + mujoco::halfExtentX(o) + contact.tip_radius - 3.0, o.y, kStart.z());
+  scene.sensors.push_back(
+      taskSensor("follower", contact, makePose(fromColumns(-Vec3::UnitZ(), -Vec3::UnitY(), -Vec3::UnitX()), at)));
+  return scene;
+}
+
+/// What one dual-arm run did.
+struct DualOutcome {
+  bool finished = false;         ///< the leader reached the target (the controller terminated)
+  double time = 0;               ///< s simulated
+  double min_opposition = 180;   ///< deg: the smallest angle between the contact normals
+  long follower_out = 0;         ///< periods with the follower out of contact
+  LoopOutcome arm[2];            ///< per arm: the achieved against commanded twist (as tactileLoop)
+  Status status = Status::ok;    ///< the first non-ok Status met (ok if none)
+  std::string where;
+};
+
+/// The paper's dual-arm pushing (Tables 8-9: DualArmPushing, with its two filters) for the
+/// scene's two sensors, one tactile period at a time, as tactileLoop does for one arm: each
+/// arm's contact observed through its seeded GDN model, both commanded, then the period run.
+template <class Command, class RunPeriod, class Pose>
+DualOutcome dualLoop(mujoco::World& world, const ContactParams& contact_params, double timeout, Command command,
+                     RunPeriod run_period, Pose pose) {
+  DualOutcome out;
+  auto options = lieservo::dualArmPushingPreset<double>(false);
+  options.leader.target = SE3d(SO3d::identity(), kTarget);
+  lieservo::DualArmPushing<double> dual(options, lieservo::DiscriminativeBayesFilter<SE3d>(),
+                                        lieservo::DiscriminativeBayesFilter<SE3d>());
+  REQUIRE(dual.configurationStatus() == Status::ok);
+  ContactModel contact[2] = {ContactModel(contact_params), ContactModel(contact_params)};
+  GdnObservationModel gdn[2] = {GdnObservationModel(GdnCalibration::paperTable1(), {}, 1),
+                                GdnObservationModel(GdnCalibration::paperTable1(), {}, 2)};
+  auto fail = [&](Status s, const char* where) {
+    out.status = s;
+    out.where = where;
+    return out;
+  };
+  long lost = 0, gaps = 0;  // gaps: per-arm samples, both arms counted
+  for (long k = 0; k * kDt < timeout; ++k) {
+    lieservo::DualArmPushing<double>::ArmInput in[2];
+    ContactState state[2];
+    for (int a = 0; a < 2; ++a) {
+      if (const Status s = pose(a, in[a].sensor_pose); s != Status::ok) return fail(s, "pose");
+      state[a] = touchContact(world, a, contact[a]);
+      const GdnObservation obs = gdn[a].observe(state[a]);
+      if (const Status s = lieservo::fromTangentGaussian(obs.mu, obs.sigma, in[a].observation); s != Status::ok)
+        return fail(s, "observation");
+    }
+    lost = state[0].in_contact ? 0 : lost + 1;
+    if (lost * kDt >= 1.0) return fail(Status::invalid_argument, "leader's contact lost for 1 s");
+    if (!state[1].in_contact) ++out.follower_out;
+    if (state[0].in_contact && state[1].in_contact)
+      out.min_opposition = std::min(
+          out.min_opposition,
+          std::acos(std::clamp(state[0].normal_w.dot(state[1].normal_w), -1.0, 1.0)) * 180 / lieservo::pi<double>());
+    lieservo::DualArmPushing<double>::ArmOutput u[2];
+    if (const Status s = dual.step(in[0], in[1], kDt, u[0], u[1]); s != Status::ok) return fail(s, "controller");
+    out.time = double(k) * kDt;
+    if (dual.terminated()) {
+      out.finished = true;
+      break;
+    }
+    for (int a = 0; a < 2; ++a)
+      if (const Status s = command(a, u[a].velocity, state[a].in_contact); s != Status::ok) return fail(s, "command");
+    if (const Status s = run_period(); s != Status::ok) return fail(s, "robot period");
+    for (int a = 0; a < 2 && k >= 10; ++a) {  // after the watchdogs have armed, as tactileLoop
+      SE3d X_after;
+      if (const Status s = pose(a, X_after); s != Status::ok) return fail(s, "pose");
+      const double gap = ((in[a].sensor_pose.inverse() * X_after).log() / kDt - u[a].velocity).head<3>().norm();
+      out.arm[a].max_twist_gap = std::max(out.arm[a].max_twist_gap, gap);
+      out.arm[a].rms_twist_gap += gap * gap;  // a sum until the end
+      ++gaps;
+    }
+  }
+  for (LoopOutcome& a : out.arm) a.rms_twist_gap = gaps ? std::sqrt(2 * a.rms_twist_gap / double(gaps)) : 0.0;
+  return out;
+}
 
 /// The following task's ramp (followingRamp) under a sensor pointing down (z_s = −z_w,
 /// y_s = +y_w) at 3 mm depth, 30 mm before the curve, as the task starts it.
@@ -394,16 +504,17 @@ TEST_CASE("franka adapter on the double: single-arm pushing of the blue square o
   Vec3 driven_object;
   {
     mujoco::World world(pushingScene(contact_params, h));
-    DrivenBody robot(world, substeps, h);
+    DrivenBodies robot(world, substeps, h);
     driven = tactileLoop(
-        world, contact_params, kTimeout, Pushing(), [&](const SE3d::Tangent& u, bool c) { return robot.command(u, c); },
-        [&] { return robot.runPeriod(); }, [&](SE3d& X) { return robot.pose(X); });
+        world, contact_params, kTimeout, Pushing(),
+        [&](const SE3d::Tangent& u, bool c) { return robot.command(0, u, c); }, [&] { return robot.runPeriod(); },
+        [&](SE3d& X) { return robot.pose(0, X); });
     driven_object = planar(world.objectPose(0));
   }
 
   // 2. The same scene through the adapter on the double's Panda.
   mujoco::World world(pushingScene(contact_params, h));
-  AdapterRig rig("sim-panda-pushing-task", world, substeps, h);
+  AdapterRig rig("sim-panda-pushing-task", world);
   LoopOutcome through = tactileLoop(
       world, contact_params, kTimeout, Pushing(), [&](const SE3d::Tangent& u, bool c) { return rig.command(u, c); },
       [&] { return rig.runPeriod(); }, [&](SE3d& X) { return rig.pose(X); });
@@ -427,6 +538,65 @@ TEST_CASE("franka adapter on the double: single-arm pushing of the blue square o
   CHECK((object.head<2>() - driven_object.head<2>()).norm() <= 30.0);
 }
 
+TEST_CASE("franka adapter on the double: dual-arm pushing of the blue square on MDF with two Pandas",
+          "[robot][franka][task]") {
+  // Two Pandas facing each other across the object, each with its own adapter (its own 1 kHz
+  // thread), the same right-angle mount, the paper's leader and follower (Tables 8-9); this
+  // thread is the tactile loop of both. Bounds, written before the first run: both runs reach
+  // the target within 120 s with the contact normals at least 150 deg apart whenever both touch
+  // (the demo's opposition criterion) and the leader's contact never lost for 1 s; each arm
+  // within the adapter's bounds (finishAndCheck); the object within 30 mm of the driven-body
+  // run's.
+  const ContactParams contact_params;
+  const int substeps = stepsPerPeriod(kDt);
+  const double h = kDt / substeps;
+  constexpr double kTimeout = 120;
+
+  DualOutcome driven;
+  Vec3 driven_object;
+  {
+    mujoco::World world(dualPushingScene(contact_params, h));
+    DrivenBodies robot(world, substeps, h);
+    driven = dualLoop(
+        world, contact_params, kTimeout,
+        [&](int a, const SE3d::Tangent& u, bool c) { return robot.command(a, u, c); },
+        [&] { return robot.runPeriod(); }, [&](int a, SE3d& X) { return robot.pose(a, X); });
+    driven_object = planar(world.objectPose(0));
+  }
+
+  mujoco::World world(dualPushingScene(contact_params, h));
+  AdapterRig leader("sim-panda-dual-leader", world, 0, 0.0);
+  AdapterRig follower("sim-panda-dual-follower", world, 1, lieservo::pi<double>());
+  AdapterRig* rigs[2] = {&leader, &follower};
+  DualOutcome through = dualLoop(
+      world, contact_params, kTimeout,
+      [&](int a, const SE3d::Tangent& u, bool c) { return rigs[a]->command(u, c); },
+      [&] { return AdapterRig::runPeriods(world, {&leader, &follower}); },
+      [&](int a, SE3d& X) { return rigs[a]->pose(X); });
+  const Vec3 object = planar(world.objectPose(0));
+  std::printf(
+      "dual-arm pushing: %s after %.1f s through two adapters (driven bodies: %s after %.1f s); contact normals at "
+      "least %.1f deg apart (driven: %.1f), follower out of contact for %ld periods (driven: %ld); object at (%.1f, "
+      "%.1f) mm, %.1f deg (driven bodies: (%.1f, %.1f) mm, %.1f deg) %s %s\n",
+      through.finished ? "reached" : "NOT reached", through.time, driven.finished ? "reached" : "NOT reached",
+      driven.time, through.min_opposition, driven.min_opposition, through.follower_out, driven.follower_out,
+      object.x(), object.y(), object.z() * 180 / lieservo::pi<double>(), driven_object.x(), driven_object.y(),
+      driven_object.z() * 180 / lieservo::pi<double>(), describe(through.status), through.where.c_str());
+  for (LoopOutcome& a : through.arm) {
+    a.status = through.status;
+    a.where = through.where;
+  }
+  leader.finishAndCheck("dual-arm leader", through.arm[0]);
+  follower.finishAndCheck("dual-arm follower", through.arm[1]);
+
+  for (const DualOutcome* r : {&driven, &through}) {
+    CHECK(r->finished);
+    CHECK(r->status == Status::ok);
+    CHECK(r->min_opposition >= 150.0);
+  }
+  CHECK((object.head<2>() - driven_object.head<2>()).norm() <= 30.0);
+}
+
 TEST_CASE("franka adapter on the double: surface following on the curved ramp", "[robot][franka][task]") {
   const ContactParams contact_params;
   const int substeps = stepsPerPeriod(kDt);
@@ -438,18 +608,18 @@ TEST_CASE("franka adapter on the double: surface following on the curved ramp", 
   LoopOutcome driven_run;
   {
     mujoco::World world(followingScene(contact_params, h));
-    DrivenBody robot(world, substeps, h);
+    DrivenBodies robot(world, substeps, h);
     driven_run = tactileLoop(
         world, contact_params, timeout, std::ref(driven),
-        [&](const SE3d::Tangent& u, bool c) { return robot.command(u, c); }, [&] { return robot.runPeriod(); },
-        [&](SE3d& X) { return robot.pose(X); });
+        [&](const SE3d::Tangent& u, bool c) { return robot.command(0, u, c); }, [&] { return robot.runPeriod(); },
+        [&](SE3d& X) { return robot.pose(0, X); });
   }
   driven.depth_error.finish();
   driven.tilt.finish();
 
   // 2. The same path through the adapter on the double's Panda.
   mujoco::World world(followingScene(contact_params, h));
-  AdapterRig rig("sim-panda-following-task", world, substeps, h);
+  AdapterRig rig("sim-panda-following-task", world);
   Following through;
   LoopOutcome run = tactileLoop(
       world, contact_params, timeout, std::ref(through),
