@@ -374,6 +374,7 @@ struct DualOutcome {
   double time = 0;               ///< s simulated
   double min_opposition = 180;   ///< deg: the smallest angle between the contact normals
   long follower_out = 0;         ///< periods with the follower out of contact
+  long both_touching = 0;        ///< periods with both arms in contact (where the angle is read)
   LoopOutcome arm[2];            ///< per arm: the achieved against commanded twist (as tactileLoop)
   Status status = Status::ok;    ///< the first non-ok Status met (ok if none)
   std::string where;
@@ -413,6 +414,7 @@ DualOutcome dualLoop(mujoco::World& world, const ContactParams& contact_params, 
     lost = state[0].in_contact ? 0 : lost + 1;
     if (lost * kDt >= 1.0) return fail(Status::invalid_argument, "leader's contact lost for 1 s");
     if (!state[1].in_contact) ++out.follower_out;
+    if (state[0].in_contact && state[1].in_contact) ++out.both_touching;
     if (state[0].in_contact && state[1].in_contact)
       out.min_opposition = std::min(
           out.min_opposition,
@@ -593,6 +595,7 @@ TEST_CASE("franka adapter on the double: dual-arm pushing of the blue square on 
     CHECK(r->finished);
     CHECK(r->status == Status::ok);
     CHECK(r->min_opposition >= 150.0);
+    CHECK(r->both_touching > 0);  // the angle was read at all
   }
   CHECK((object.head<2>() - driven_object.head<2>()).norm() <= 30.0);
 }

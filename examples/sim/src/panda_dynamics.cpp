@@ -2,7 +2,7 @@
 #include <lieservo_sim/panda_dynamics.hpp>
 
 #include <cmath>
-#include <cstdio>
+#include <sstream>
 #include <stdexcept>
 
 #include <mujoco/mujoco.h>
@@ -20,59 +20,53 @@ constexpr double kToolMass = 0.5;
 /// The rotors' inertia reflected through the gears (kg·m²), an assumed plausible value.
 constexpr double kArmature[kJoints] = {0.1, 0.1, 0.1, 0.1, 0.05, 0.05, 0.05};
 
-std::string fmt(const char* format, double a, double b = 0, double c = 0, double d = 0) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, format, a, b, c, d);
-  return buf;
-}
-
-/// Where frame i + 1's origin lies in frame i (Craig's step without the joint angle).
-Eigen::Vector3d childOrigin(const Link& l) { return {l.a, -std::sin(l.alpha) * l.d, std::cos(l.alpha) * l.d}; }
+/// Where frame i + 1's origin lies in frame i.
+Eigen::Vector3d childOrigin(const Link& l) { return linkTransform(l, 0.0).topRightCorner<3, 1>(); }
 
 }  // namespace
 
 std::string pandaMjcf(const JointServoGains& g) {
-  std::string x =
-      "<mujoco model=\"panda\">\n"
-      "  <compiler angle=\"radian\"/>\n"
-      "  <!-- 1 kHz; the robot compensates gravity itself; the links touch nothing -->\n"
-      "  <option timestep=\"0.001\" gravity=\"0 0 0\" integrator=\"implicit\"/>\n"
-      "  <default><geom contype=\"0\" conaffinity=\"0\"/></default>\n"
-      "  <worldbody>\n";
-  std::string close;
-  for (int i = 0; i <= kJoints; ++i) {
+  std::ostringstream x;
+  x.precision(17);  // MuJoCo's flange must equal the chain's to rounding (test_panda_dynamics)
+  x << "<mujoco model=\"panda\">\n"
+    << "  <compiler angle=\"radian\"/>\n"
+    << "  <!-- 1 kHz; the robot compensates gravity itself; the links touch nothing -->\n"
+    << "  <option timestep=\"" << PandaDynamics::kStep << "\" gravity=\"0 0 0\" integrator=\"implicit\"/>\n"
+    << "  <default><geom contype=\"0\" conaffinity=\"0\"/></default>\n"
+    << "  <worldbody>\n";
+  for (int i = 0; i < kJoints; ++i) {
     const Link& l = kLinks[std::size_t(i)];
-    const Eigen::Vector3d p = childOrigin(l);
-    const std::string indent(std::size_t(4 + 2 * i), ' ');
-    if (i == kJoints) {  // the flange, with the sensor and its mount
-      x += indent + "<body name=\"flange\"" + fmt(" pos=\"%.17g %.17g %.17g\">\n", p.x(), p.y(), p.z());
-      x += indent + fmt("  <geom type=\"capsule\" fromto=\"0 0 0 0 0 0.08\" size=\"0.025\" mass=\"%.17g\"/>\n", kToolMass);
-      x += indent + "</body>\n";
-      break;
-    }
-    x += indent + "<body name=\"link" + std::to_string(i + 1) + "\"" +
-         fmt(" pos=\"%.17g %.17g %.17g\" quat=\"%.17g", p.x(), p.y(), p.z(), std::cos(l.alpha / 2)) +
-         fmt(" %.17g 0 0\">\n", std::sin(l.alpha / 2));
-    x += indent + "  <joint name=\"joint" + std::to_string(i + 1) + "\" type=\"hinge\" axis=\"0 0 1\" limited=\"true\"" +
-         fmt(" range=\"%.17g %.17g\" armature=\"%.17g\"/>\n", lowerLimits()[i], upperLimits()[i], kArmature[i]);
+    const Eigen::Vector3d p = childOrigin(l), c = childOrigin(kLinks[std::size_t(i + 1)]);
+    const std::string in(std::size_t(4 + 2 * i), ' ');
+    x << in << "<body name=\"link" << i + 1 << "\" pos=\"" << p.x() << ' ' << p.y() << ' ' << p.z() << "\" quat=\""
+      << std::cos(l.alpha / 2) << ' ' << std::sin(l.alpha / 2) << " 0 0\">\n"
+      << in << "  <joint name=\"joint" << i + 1 << "\" type=\"hinge\" axis=\"0 0 1\" limited=\"true\" range=\""
+      << lowerLimits()[i] << ' ' << upperLimits()[i] << "\" armature=\"" << kArmature[i] << "\"/>\n";
     // The link: a capsule from this joint's origin to the next one's (a ball where they meet).
-    const Eigen::Vector3d c = childOrigin(kLinks[std::size_t(i + 1)]);
     const double r = i < 4 ? 0.06 : 0.05;
     if (c.norm() > 1e-9)
-      x += indent + fmt("  <geom type=\"capsule\" fromto=\"0 0 0 %.17g %.17g %.17g\"", c.x(), c.y(), c.z()) +
-           fmt(" size=\"%.17g\" mass=\"%.17g\"/>\n", r, kLinkMass[i]);
+      x << in << "  <geom type=\"capsule\" fromto=\"0 0 0 " << c.x() << ' ' << c.y() << ' ' << c.z() << "\" size=\""
+        << r << "\" mass=\"" << kLinkMass[i] << "\"/>\n";
     else
-      x += indent + fmt("  <geom type=\"sphere\" size=\"%.17g\" mass=\"%.17g\"/>\n", r, kLinkMass[i]);
-    close = indent + "</body>\n" + close;
+      x << in << "  <geom type=\"sphere\" size=\"" << r << "\" mass=\"" << kLinkMass[i] << "\"/>\n";
   }
-  x += close + "  </worldbody>\n  <actuator>\n";
+  // The flange in link 7, with the sensor and its mount.
+  const Eigen::Vector3d f = childOrigin(kLinks[kJoints]);
+  const std::string in(std::size_t(4 + 2 * kJoints), ' ');
+  x << in << "<body name=\"flange\" pos=\"" << f.x() << ' ' << f.y() << ' ' << f.z() << "\">\n"
+    << in << "  <geom type=\"capsule\" fromto=\"0 0 0 0 0 0.08\" size=\"0.025\" mass=\"" << kToolMass << "\"/>\n"
+    << in << "</body>\n";
+  for (int i = kJoints - 1; i >= 0; --i) x << std::string(std::size_t(4 + 2 * i), ' ') << "</body>\n";
+  x << "  </worldbody>\n  <actuator>\n";
   // τ = kp (ctrl − q) − kd q̇ with ctrl = q_d + (kd / kp) q̇_d: the PD law with velocity
   // feedforward as one actuator, so that the torque limit bounds the sum.
   for (int i = 0; i < kJoints; ++i)
-    x += "    <general name=\"servo" + std::to_string(i + 1) + "\" joint=\"joint" + std::to_string(i + 1) +
-         "\" gaintype=\"fixed\" biastype=\"affine\"" + fmt(" gainprm=\"%.17g\" biasprm=\"0 %.17g %.17g\"", g.kp[i], -g.kp[i], -g.kd[i]) +
-         fmt(" forcelimited=\"true\" forcerange=\"%.17g %.17g\"/>\n", -torqueLimits()[i], torqueLimits()[i]);
-  return x + "  </actuator>\n</mujoco>\n";
+    x << "    <general name=\"servo" << i + 1 << "\" joint=\"joint" << i + 1
+      << "\" gaintype=\"fixed\" biastype=\"affine\" gainprm=\"" << g.kp[i] << "\" biasprm=\"0 " << -g.kp[i] << ' '
+      << -g.kd[i] << "\" forcelimited=\"true\" forcerange=\"" << -torqueLimits()[i] << ' ' << torqueLimits()[i]
+      << "\"/>\n";
+  x << "  </actuator>\n</mujoco>\n";
+  return x.str();
 }
 
 PandaDynamics::PandaDynamics(const Joints& q0, const JointServoGains& gains) : gains_(gains), q_d_(q0) {

@@ -11,10 +11,7 @@
 
 namespace lieservo::sim::panda {
 
-namespace {
-
-/// Rot_x(α) · Trans_x(a) · Rot_z(θ) · Trans_z(d), Craig's modified DH step.
-Eigen::Matrix4d dhStep(const Link& l, double theta) {
+Eigen::Matrix4d linkTransform(const Link& l, double theta) {
   const double ca = std::cos(l.alpha), sa = std::sin(l.alpha);
   const double ct = std::cos(theta), st = std::sin(theta);
   Eigen::Matrix4d T;
@@ -25,12 +22,14 @@ Eigen::Matrix4d dhStep(const Link& l, double theta) {
   return T;
 }
 
+namespace {
+
 /// The frames of joints 1–7 (each origin on its joint's axis z) and the flange.
 std::array<Eigen::Matrix4d, kJoints + 1> frames(const Joints& q) {
   std::array<Eigen::Matrix4d, kJoints + 1> T;
   Eigen::Matrix4d X = Eigen::Matrix4d::Identity();
   for (int i = 0; i <= kJoints; ++i) {
-    X = X * dhStep(kLinks[std::size_t(i)], i < kJoints ? q[i] : 0.0);
+    X = X * linkTransform(kLinks[std::size_t(i)], i < kJoints ? q[i] : 0.0);
     T[std::size_t(i)] = X;
   }
   return T;

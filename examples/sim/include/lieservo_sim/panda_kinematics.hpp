@@ -57,6 +57,9 @@ inline Joints readyPose() {
   return (Joints() << 0.0, -0.785398163397, 0.0, -2.35619449019, 0.0, 1.57079632679, 0.785398163397).finished();
 }
 
+/// One step of the chain: Rot_x(α) · Trans_x(a) · Rot_z(θ) · Trans_z(d) (Craig's convention).
+Eigen::Matrix4d linkTransform(const Link& link, double theta);
+
 /// The flange pose in {O} (O_T_EE with the end effector at the flange).
 Eigen::Matrix4d flange(const Joints& q);
 

@@ -12,9 +12,9 @@
 // command exactly, no dynamics, no load); a dynamic one (the MuJoCo Panda of
 // lieservo_sim/panda_dynamics.hpp under its joint controller, tests/franka/test_franka_tasks.cpp)
 // lags the command and yields to the load set with setLoad. The cycles are paced at 1 kHz of
-// wall-clock time, since the adapter's watchdog measures the age of commands on the steady clock. In lockstep mode
-// (setLockstep) the cycles run only as a simulation releases them (advance), so that a
-// simulated world and the arm share one clock (tests/franka/test_franka_tasks.cpp).
+// wall-clock time, since the adapter's watchdog measures the age of commands on the steady
+// clock. In lockstep mode (setLockstep) the cycles run only as a simulation releases them
+// (advance), so that a simulated world and the arm share one clock.
 #pragma once
 
 #include <condition_variable>
