@@ -33,6 +33,8 @@
 #include <franka_adapter.hpp>
 #include <franka_sim/arm.h>
 
+#include "dynamic_servo.hpp"
+
 #include <lieservo/lieservo.hpp>
 
 #include "lieservo_sim/contact_model.hpp"
@@ -46,6 +48,7 @@ using lieservo::Status;
 using lieservo::franka_adapter::FrankaAdapter;
 using lieservo::franka_adapter::FrankaAdapterOptions;
 using namespace lieservo::sim;
+using lieservo_test::DynamicServo;
 namespace panda = lieservo::sim::panda;
 
 namespace {
@@ -179,33 +182,6 @@ struct DrivenBodies {
     return Status::ok;
   }
   Status pose(int arm, SE3d& X) { return bodies[std::size_t(arm)].readPose(X); }
-};
-
-/// The double's joints as the MuJoCo Panda moves them under its joint controller
-/// (panda_dynamics.hpp): they lag the commands and yield to the contact's load.
-class DynamicServo : public franka_sim::JointServo {
- public:
-  explicit DynamicServo(const panda::Joints& q0) : arm_(q0) {}
-  void step(const panda::Joints& dq_cmd, const Eigen::Vector3d& f, const Eigen::Vector3d& p, panda::Joints& q,
-            panda::Joints& dq) override {
-    arm_.setLoad(f, p);
-    arm_.step(dq_cmd);
-    q = arm_.q();
-    dq = arm_.dq();
-    for (int i = 0; i < panda::kJoints; ++i)
-      max_torque_ratio = std::max(max_torque_ratio, std::abs(arm_.torques()[i]) / panda::torqueLimits()[i]);
-    max_lag = std::max(max_lag, arm_.trackingError().cwiseAbs().maxCoeff());
-  }
-  void brake(panda::Joints& q, panda::Joints& dq) override {
-    arm_.brake();
-    q = arm_.q();
-    dq = arm_.dq();
-  }
-  double max_torque_ratio = 0;  ///< max |τ_i| / τ_max,i over the cycles
-  double max_lag = 0;           ///< rad: max |q_d − q| over the cycles
-
- private:
-  panda::PandaDynamics arm_;
 };
 
 /// The Panda of the libfranka test double holding the world's sensor `sensor`, commanded
@@ -652,65 +628,4 @@ TEST_CASE("franka adapter on the double: surface following on the curved ramp", 
   CHECK(driven_run.finished);
   CHECK(driven_run.status == Status::ok);
   CHECK(run.finished);
-}
-
-TEST_CASE("franka adapter on the double's dynamic arm: a stalled tactile thread brings it to rest", "[robot][franka]") {
-  // The arm of the tasks (MuJoCo's dynamics, DynamicServo) at 1 kHz of wall-clock time, no world:
-  // 24 commands of 10 mm/s along the sensor's x at 20 Hz, then none. Bounds, written before the
-  // first run: every joint slower than 1e-4 rad/s within 0.6 s of the last command (the
-  // watchdog's 0.2 s, its ramp, the joint controller settling), counted on the arm's own clock
-  // (its 1 ms cycles: on a loaded machine the cycles fall behind wall-clock time, and the
-  // controller settles in cycles); the watchdog tripped on the timeout, no error anywhere; the
-  // sensor moved 5-15 mm along x.
-  const std::string address = "sim-panda-dynamic-stall";
-  auto servo = std::make_shared<DynamicServo>(panda::readyPose());
-  auto arm = franka_sim::Arm::create(address, panda::readyPose(), servo);
-  struct Remove {
-    std::string a;
-    ~Remove() { franka_sim::Arm::remove(a); }
-  } remove{address};
-  FrankaAdapterOptions options;
-  options.robot_ip = address;
-  options.enforce_realtime = false;
-  FrankaAdapter adapter(options);
-  SE3d X0;
-  REQUIRE(adapter.readPose(X0) == Status::ok);
-  using Clock = std::chrono::steady_clock;
-  SE3d::Tangent v = SE3d::Tangent::Zero();
-  v[0] = 10.0;
-  auto next = Clock::now(), last = next;
-  std::uint64_t last_ms = 0;  // the arm's clock at the last command
-  for (int i = 0; i < 24; ++i) {
-    last = Clock::now();
-    last_ms = arm->readOnce().time.toMSec();
-    REQUIRE(adapter.commandVelocity(v, kDt, true) == Status::ok);
-    next += std::chrono::milliseconds(50);
-    std::this_thread::sleep_until(next);
-  }
-  double since_last = -1, wall = -1;
-  while (std::chrono::duration<double>(Clock::now() - last).count() < 3.0) {
-    const franka::RobotState state = arm->readOnce();
-    if (Eigen::Map<const panda::Joints>(state.dq.data()).cwiseAbs().maxCoeff() < 1e-4) {
-      since_last = 1e-3 * double(state.time.toMSec() - last_ms);
-      wall = std::chrono::duration<double>(Clock::now() - last).count();
-      break;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  INFO("joints below 1e-4 rad/s " << since_last << " s of the arm's clock after the last command (" << wall
-                                  << " s of wall-clock time)");
-  CHECK(since_last >= 0);
-  CHECK(since_last <= 0.6);
-  const auto stats = adapter.stats();
-  CHECK_FALSE(stats.faulted);
-  CHECK(stats.watchdog == lieservo::realtime::WatchdogState::tripped_timeout);
-  SE3d X1;
-  REQUIRE(adapter.readPose(X1) == Status::ok);
-  const SE3d::Tangent d = (X0.inverse() * X1).log();
-  INFO("moved " << d.transpose());
-  CHECK(d[0] >= 5.0);
-  CHECK(d[0] <= 15.0);
-  adapter.stop();
-  CHECK(arm->report().errors == 0);
-  CHECK(stats.pipeline_errors == 0);
 }
