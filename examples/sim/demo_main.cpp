@@ -16,12 +16,17 @@
 #include <fstream>
 #include <cstdio>
 #include <cstdlib>
+#include <condition_variable>
 #include <cstring>
-#include <string>
+#include <deque>
+#include <functional>
 #include <limits>
-#include <type_traits>
 #include <memory>
+#include <mutex>
 #include <new>
+#include <string>
+#include <thread>
+#include <type_traits>
 #include <vector>
 
 #include <lieservo_cli/cli.hpp>
@@ -54,6 +59,103 @@ std::string pm(double m, double s) {
   std::snprintf(b, sizeof b, "%.2f ± %.2f", m, s);
   return b;
 }
+
+#ifdef LIESERVO_DEMO_WITH_RENDER
+// The pictures of the finished tasks (render.hpp), drawn on a thread of their own while the
+// next task runs: the runs keep both cores busy and the drawing leaves one mostly idle (OSMesa),
+// so drawing them in turn would add its whole time to the demo's. Each job draws from its own
+// copy of a task's result, whose logged states are final, so a picture never touches a running
+// task or changes a result. What the drawing reports is kept for the end (finish()).
+class PictureWorker {
+ public:
+  PictureWorker(std::string out_dir, bool video) : out_dir_(std::move(out_dir)), video_(video) {
+    thread_ = std::thread([this] { loop(); });
+  }
+  /// An early end: the pictures not yet started are dropped, the one being drawn is finished.
+  ~PictureWorker() {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      jobs_.clear();
+    }
+    finish();
+  }
+  PictureWorker(const PictureWorker&) = delete;
+  PictureWorker& operator=(const PictureWorker&) = delete;
+
+  /// Queues the pictures of one task's result (a tracking, following or pushing result).
+  template <class Result>
+  void add(const Result& result) {
+    auto copy = std::make_shared<const Result>(result);
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      if (closing_) return;
+      jobs_.emplace_back([this, copy](render::Renderer& r, render::Written& w) {
+        if constexpr (std::is_same_v<Result, TrackingResult>)
+          render::writeTrackingPictures(r, *copy, out_dir_, video_, w);
+        else if constexpr (std::is_same_v<Result, FollowingResult>)
+          render::writeFollowingPictures(r, *copy, out_dir_, video_, w);
+        else
+          render::writePushingPictures(r, *copy, out_dir_, video_, w);
+      });
+    }
+    ready_.notify_one();
+  }
+
+  /// Waits until every queued picture is drawn; then the counts below are final.
+  void finish() {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      closing_ = true;
+    }
+    ready_.notify_one();
+    if (thread_.joinable()) thread_.join();
+  }
+
+  std::size_t images = 0, videos = 0;  ///< written (after finish())
+  double seconds_drawing = 0;          ///< wall-clock time spent drawing (after finish())
+  std::vector<std::string> messages;   ///< what could not be drawn (after finish())
+
+ private:
+  using Job = std::function<void(render::Renderer&, render::Written&)>;
+
+  void loop() {
+    std::unique_ptr<render::Renderer> renderer;  // made, used and freed on this thread only
+    bool failed = false;
+    for (;;) {
+      Job job;
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        ready_.wait(lock, [this] { return closing_ || !jobs_.empty(); });
+        if (jobs_.empty()) return;
+        job = std::move(jobs_.front());
+        jobs_.pop_front();
+      }
+      if (failed) continue;
+      const auto t = Clock::now();
+      try {
+        if (!renderer) renderer = std::make_unique<render::Renderer>(640, 480);
+        render::Written w;
+        job(*renderer, w);
+        images += w.images.size();
+        videos += w.videos.size();
+        for (const auto& p : w.problems) messages.push_back("pictures: " + p);
+      } catch (const std::exception& e) {  // RenderError, or what OpenCV or memory threw
+        messages.push_back(std::string("no time-lapses: ") + e.what() + " (the page shows the plots alone)");
+        failed = true;
+      }
+      seconds_drawing += seconds(t);
+    }
+  }
+
+  const std::string out_dir_;
+  const bool video_;
+  std::mutex mutex_;
+  std::condition_variable ready_;
+  std::deque<Job> jobs_;
+  bool closing_ = false;
+  std::thread thread_;
+};
+#endif
 
 // "blue square, foam (mm) [reached 5/5, contact 5/5, ...]"
 std::string caseLabel(const PushingCase& c) {
@@ -280,14 +382,15 @@ static int run(int argc, char** argv) {
 #endif
     return false;
   };
-  // The pictures of the runs, drawn from their logged states after each task (render.hpp):
-  // never part of a result. Without a renderer the page shows the plots alone.
+  // The pictures of the runs, drawn from their logged states after each task (render.hpp) on a
+  // thread of their own (PictureWorker): never part of a result. Without a renderer the page
+  // shows the plots alone.
   const bool pictures = !opt.out_dir.empty() && !no_pictures;
   double picture_seconds = 0;
   std::size_t picture_count = 0, video_count = 0;
 #ifdef LIESERVO_DEMO_WITH_RENDER
-  std::unique_ptr<render::Renderer> renderer;
-  bool renderer_failed = false;
+  std::unique_ptr<PictureWorker> picture_worker;
+  if (pictures) picture_worker = std::make_unique<PictureWorker>(opt.out_dir, video);
 #else
   if (pictures)
     std::printf("no time-lapses: this build has no offscreen renderer (it needs OSMesa, apt install "
@@ -296,26 +399,7 @@ static int run(int argc, char** argv) {
 #endif
   auto drawPictures = [&](const auto& result) {
 #ifdef LIESERVO_DEMO_WITH_RENDER
-    if (!pictures || renderer_failed) return;
-    const auto t = Clock::now();
-    try {
-      if (!renderer) renderer = std::make_unique<render::Renderer>(640, 480);
-      render::Written w;
-      using Result = std::decay_t<decltype(result)>;
-      if constexpr (std::is_same_v<Result, TrackingResult>)
-        render::writeTrackingPictures(*renderer, result, opt.out_dir, video, w);
-      else if constexpr (std::is_same_v<Result, FollowingResult>)
-        render::writeFollowingPictures(*renderer, result, opt.out_dir, video, w);
-      else
-        render::writePushingPictures(*renderer, result, opt.out_dir, video, w);
-      picture_count += w.images.size();
-      video_count += w.videos.size();
-      for (const auto& p : w.problems) std::printf("      pictures: %s\n", p.c_str());
-    } catch (const render::RenderError& e) {
-      std::printf("      no time-lapses: %s (the page shows the plots alone)\n", e.what());
-      renderer_failed = true;
-    }
-    picture_seconds += seconds(t);
+    if (picture_worker) picture_worker->add(result);
 #else
     (void)result;
 #endif
@@ -464,6 +548,17 @@ static int run(int argc, char** argv) {
   }
 #endif
 
+#ifdef LIESERVO_DEMO_WITH_RENDER
+  // The pictures are on the page: wait for the last of them before writing it.
+  if (picture_worker) {
+    picture_worker->finish();
+    for (const auto& m : picture_worker->messages) std::printf("      %s\n", m.c_str());
+    picture_count = picture_worker->images;
+    video_count = picture_worker->videos;
+    picture_seconds = picture_worker->seconds_drawing;
+  }
+#endif
+
   // ---- one summary table ----
   std::printf("\n%-16s %-88s %-24s %-24s %s\n", "task", "quantity", "simulation", "paper", "pass");
   std::printf("%s\n", std::string(162, '-').c_str());
@@ -485,7 +580,8 @@ static int run(int argc, char** argv) {
       std::printf("plots (SVG) and logs (CSV) in %s/ (index.html could not be written)\n", opt.out_dir.c_str());
   }
   if (picture_count + video_count > 0)
-    std::printf("pictures: %zu time-lapses and strips of frames%s, drawn offscreen in %.1f s\n", picture_count,
+    std::printf("pictures: %zu time-lapses and strips of frames%s, drawn offscreen in %.1f s beside the runs\n",
+                picture_count,
                 video ? (", " + std::to_string(video_count) + " videos").c_str() : "", picture_seconds);
   for (const auto& f : reported) std::printf("reported (does not decide): %s\n", f.c_str());
   for (const auto& f : failures) std::printf("FAILED: %s\n", f.c_str());
