@@ -18,6 +18,7 @@
 #include <utility>
 
 #include <opencv2/core.hpp>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "lieservo/estimation/bayes_filter.hpp"
@@ -353,13 +354,18 @@ ReplayResults runReplay(const ReplayOptions& opt) {
     log("network outputs read from cache " + opt.cache_file);
   } else {
     const ad::Preprocessor pre(ad::PreprocessParams::fromJsonFile(split_dir + "/processed_image_params.json"));
-    std::vector<cv::Mat> images;
-    images.reserve(n);
-    for (const Sample& s : samples) {
-      cv::Mat img;
-      if (pre.loadProcessed(image_dir + "/" + s.image, img) != Status::ok) throw std::runtime_error(pre.lastError());
-      images.push_back(std::move(img));
-    }
+    // Decoding the PNGs is most of the load: spread over OpenCV's threads, a Preprocessor per
+    // range (its error text is its only state); the first failing image in order is reported.
+    std::vector<cv::Mat> images(n);
+    std::vector<std::string> errors(n);
+    cv::parallel_for_(cv::Range(0, int(n)), [&](const cv::Range& r) {
+      const ad::Preprocessor local = pre;
+      for (int i = r.start; i < r.end; ++i)
+        if (local.loadProcessed(image_dir + "/" + samples[std::size_t(i)].image, images[std::size_t(i)]) != Status::ok)
+          errors[std::size_t(i)] = local.lastError();
+    });
+    for (const std::string& e : errors)
+      if (!e.empty()) throw std::runtime_error(e);
     const auto t_loaded = Clock::now();
     res.seconds_load = seconds(t1, t_loaded);
     log("loaded " + std::to_string(n) + " images in " + std::to_string(res.seconds_load) + " s");
