@@ -256,59 +256,71 @@ TEST_CASE("Half-angle series of exp: terms, term counts and the packet evaluatio
   CHECK(worst_f <= 2 * std::numeric_limits<float>::epsilon());
 }
 
-TEST_CASE("Half-turn series of exp: term counts and the packet evaluation", "[core][coefficients]") {
-  // Rodrigues' A = sinθ/θ and B = (1 − cosθ)/θ² in d = x − π² over the quarter to the half
-  // turn, d ∈ [−3π²/4, 0]. Term count: the first K whose omitted term (A absolute, B relative
-  // to B₀) stays below eps at |d| = 3π²/4, and K − 1 would not do. Values against long double
-  // sin/cos over 1e5 points: A within an absolute 2 eps (it falls from 2/π to 0: the matrix's
-  // entries need its absolute accuracy), B within a relative 2 eps (4/π² to 2/π²); the short
-  // form (half the terms) likewise over |d| ≤ halfTurnShortMaxD.
-  const ld D = d::kHalfAngleSeriesMaxX - d::kHalfAngleSplitX;
+TEST_CASE("Piecewise series of exp: term counts and the packet evaluation", "[core][coefficients]") {
+  // Rodrigues' A = sinθ/θ and B = (1 − cosθ)/θ² over x = θ² ∈ [0, π²], as SO3::exp takes them:
+  // series about the centre of one of kExpPieces equal pieces, or about π² within
+  // expHalfTurnMaxD of it. Term count: the first K whose omitted term (A absolute, B relative
+  // to B(c)) stays below eps/8 at half a piece's width on every piece, and K − 1 would not do.
+  // Values against long double sin/cos over 1e5 points, the slot picked as exp picks it: A
+  // within an absolute 2 eps (it falls from 1 to 0: the matrix's entries need its absolute
+  // accuracy), B within a relative 2 eps.
+  const int P = d::kExpPieces;
   auto omitted = [&](int K) {
-    return std::max(std::abs(d::kHalfTurnTerms.A[K]), std::abs(d::kHalfTurnTerms.B[K] / d::kHalfTurnTerms.B[0])) *
-           std::pow(D, static_cast<ld>(K));
+    ld worst = 0;
+    for (int i = 0; i < P; ++i)
+      worst = std::max(worst, d::expPieceOmitted(d::rodriguesTermsAbout(d::expPieceCentre<double>(i)), K));
+    return worst;
   };
-  const int Kd = d::HalfTurnSeries<double>::K, Kf = d::HalfTurnSeries<float>::K;
+  auto omitted_f = [&](int K) {
+    ld worst = 0;
+    for (int i = 0; i < P; ++i)
+      worst = std::max(worst, d::expPieceOmitted(d::rodriguesTermsAbout(d::expPieceCentre<float>(i)), K));
+    return worst;
+  };
+  const int Kd = d::ExpPieces<double>::K, Kf = d::ExpPieces<float>::K;
   INFO("K double " << Kd << ", float " << Kf);
-  CHECK(omitted(Kd) < std::numeric_limits<double>::epsilon());
-  CHECK(omitted(Kd - 1) >= std::numeric_limits<double>::epsilon());
-  CHECK(omitted(Kf) < std::numeric_limits<float>::epsilon());
-  CHECK(omitted(Kf - 1) >= std::numeric_limits<float>::epsilon());
+  CHECK(omitted(Kd) < std::numeric_limits<double>::epsilon() / 8);
+  CHECK(omitted(Kd - 1) >= std::numeric_limits<double>::epsilon() / 8);
+  CHECK(omitted_f(Kf) < std::numeric_limits<float>::epsilon() / 8);
+  CHECK(omitted_f(Kf - 1) >= std::numeric_limits<float>::epsilon() / 8);
   CHECK(static_cast<double>(std::abs(d::kHalfTurnTerms.A[0])) <= 1e-19);  // sin π = 0
   CHECK(static_cast<double>(std::abs(d::kHalfTurnTerms.B[0] * lieservo::pi<ld>() * lieservo::pi<ld>() / 2 - 1)) <=
         1e-18);  // B(π²) = 2/π²
-  double worst_d = 0, worst_f = 0;
   const auto ref = [](ld x, ld& A, ld& B) {
     const ld th = std::sqrt(x);
     A = std::sin(th) / th;
     B = (1 - std::cos(th)) / x;
   };
+  // The slot and its argument, as SO3::exp computes them.
+  const auto eval = [](auto x) {
+    using S = decltype(x);
+    const auto& p = d::kExpPieceSeries<S>;
+    constexpr int h = d::ExpPieces<S>::kHalfTurn;
+    int i = std::min(int(x * p.inv_width), d::kExpPieces - 1);
+    if ((x - p.hi[h]) - p.lo[h] > -p.half_turn_max_d) i = h;
+    return d::lanesEval(p.a[i], (x - p.hi[i]) - p.lo[i]);
+  };
+  double worst_d = 0, worst_f = 0;
+  int half_turn_d = 0, half_turn_f = 0;
   for (int i = 0; i <= 100000; ++i) {
-    const double x = static_cast<double>(d::kHalfAngleSplitX + D * i / 100000);
-    const double dd = (x - d::kPiSquared<double>.hi) - d::kPiSquared<double>.lo;
-    const auto e = d::lanesEval(d::kHalfTurnSeries<double>.a, dd);
+    const double x = static_cast<double>(d::kHalfAngleSeriesMaxX * i / 100000);
+    if (x == 0) continue;
+    const auto e = eval(x);
     ld A, B;
     ref(x, A, B);
     worst_d = std::max({worst_d, static_cast<double>(std::abs(e(0) - A)), static_cast<double>(std::abs(e(1) - B) / B)});
+    half_turn_d += (x - d::kPiSquared<double>.hi) - d::kPiSquared<double>.lo > -d::kExpPieceSeries<double>.half_turn_max_d;
     const float xf = static_cast<float>(x);
-    const float df = (xf - d::kPiSquared<float>.hi) - d::kPiSquared<float>.lo;
-    const auto ef = d::lanesEval(d::kHalfTurnSeries<float>.a, df);
+    const auto ef = eval(xf);
     ref(xf, A, B);
     worst_f = std::max({worst_f, static_cast<double>(std::abs(ef(0) - A)), static_cast<double>(std::abs(ef(1) - B) / B)});
-    // The short form (half the terms) over its own range near π.
-    const double xs = static_cast<double>(d::kHalfAngleSeriesMaxX - d::halfTurnShortMaxD<double>() * i / 100000);
-    const double ds = (xs - d::kPiSquared<double>.hi) - d::kPiSquared<double>.lo;
-    const auto es = d::lanesEval(d::kHalfTurnShortSeries<double>.a, ds);
-    ref(xs, A, B);
-    worst_d = std::max({worst_d, static_cast<double>(std::abs(es(0) - A)), static_cast<double>(std::abs(es(1) - B) / B)});
-    const float xsf = static_cast<float>(d::kHalfAngleSeriesMaxX - d::halfTurnShortMaxD<float>() * i / 100000);
-    const float dsf = (xsf - d::kPiSquared<float>.hi) - d::kPiSquared<float>.lo;
-    const auto esf = d::lanesEval(d::kHalfTurnShortSeries<float>.a, dsf);
-    ref(xsf, A, B);
-    worst_f = std::max({worst_f, static_cast<double>(std::abs(esf(0) - A)), static_cast<double>(std::abs(esf(1) - B) / B)});
+    half_turn_f += (xf - d::kPiSquared<float>.hi) - d::kPiSquared<float>.lo > -d::kExpPieceSeries<float>.half_turn_max_d;
   }
   INFO("worst error: double " << worst_d / std::numeric_limits<double>::epsilon() << " eps, float "
-                              << worst_f / std::numeric_limits<float>::epsilon() << " eps");
+                              << worst_f / std::numeric_limits<float>::epsilon() << " eps; about pi^2: " << half_turn_d
+                              << " and " << half_turn_f << " points");
+  CHECK(half_turn_d > 5000);  // both kinds of slot are exercised
+  CHECK(half_turn_f > 5000);
   CHECK(worst_d <= 2 * std::numeric_limits<double>::epsilon());
   CHECK(worst_f <= 2 * std::numeric_limits<float>::epsilon());
 }

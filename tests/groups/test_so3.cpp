@@ -174,34 +174,41 @@ TEMPLATE_TEST_CASE("SO3 log (and logWithTerms) of a matrix against a long-double
 
 TEMPLATE_TEST_CASE("SO3 exp against a long-double reference, on each of its three paths", "[core][so3]", float,
                    double) {
-  // exp builds the rotation from half-angle series up to the quarter turn (three terms below
-  // halfAngleShortMaxX), from Rodrigues' A and B as series at π² up to the half turn, and by
-  // Rodrigues with sin/cos beyond. Reference: Rodrigues in long double on the same (rounded)
-  // φ. Criteria (largest entry error; ‖CᵀC − I‖, largest entry):
+  // exp builds the rotation from three terms of the half-angle series below halfAngleShortMaxX,
+  // from Rodrigues' A and B as series about the centres of kExpPieces pieces of [0, π²] or
+  // about π² (within expHalfTurnMaxD of it) up to the half turn, and by Rodrigues with sin/cos
+  // beyond. Reference: Rodrigues in long double on the same (rounded) φ. Criteria (largest
+  // entry error; ‖CᵀC − I‖, largest entry):
   //  - θ ≤ π/2: ≤ 3 eps and no more than Rodrigues (sin/cos) on the same φ; ‖CᵀC − I‖ ≤ 4 eps;
   //  - π/2 < θ ≤ π, which Rodrigues (sin/cos) served before: no more than Rodrigues on the same
   //    φ, and the bounds that held there: ≤ 5 eps, ‖CᵀC − I‖ ≤ 2√3·5 eps;
   //  - θ > π: ≤ 5 eps, ‖CᵀC − I‖ ≤ 2√3·5 eps (its entry bound; it measures 5.7–6.6 eps).
   // An eighth of the samples each lie within a relative 1e-6 of θ = π, within 1e-6 of the
-  // quarter turn, within 1e-3 of the three-term series' end and within 1e-3 of the end of the
-  // short form at π (halfTurnShortMaxD), on either side; an eighth beyond π (up to 3π/2:
+  // quarter turn or a boundary between pieces, within 1e-3 of the three-term series' end and within 1e-3 of the
+  // end of the series about π² (expHalfTurnMaxD), on either side; an eighth beyond π (up to 3π/2:
   // exp's callers pass θ ≤ π, as log returns); three eighths uniform in [0, π).
   using S = TestType;
   using ld = long double;
   using G = SO3<S>;
   const double eps = lst::epsOf<S>(), pi = lieservo::pi<double>();
   const double short_end = std::sqrt(static_cast<double>(lieservo::detail::halfAngleShortMaxX<S>()));
-  const double half_turn_short_end = std::sqrt(pi * pi - static_cast<double>(lieservo::detail::halfTurnShortMaxD<S>()));
+  const double half_turn_end = std::sqrt(pi * pi - static_cast<double>(lieservo::detail::expHalfTurnMaxD<S>()));
+  // Every other boundary sample at the quarter turn (where the criteria below change), the
+  // rest at the boundaries between pieces in turn.
+  const int pieces = lieservo::detail::kExpPieces;
+  const auto boundary = [&](int k) {
+    return k % 2 == 0 ? pi / 2 : pi * std::sqrt(double(1 + (k / 2) % (pieces - 1)) / pieces);
+  };
   lieservo::sampling::Rng rng(2026);
   double worst[3] = {}, rodrigues[3] = {}, orth[3] = {}, worst_at[3] = {};
   int count[3] = {};
   for (int i = 0; i < 100000; ++i) {
     const double jitter = 2 * uniform(rng, 0.0, 1.0) - 1;
     const double angle = i % 8 == 0   ? uniform(rng, pi, 1.5 * pi)
-                         : i % 8 == 1 ? pi / 2 * (1 + 1e-6 * jitter)
+                         : i % 8 == 1 ? boundary(i / 8) * (1 + 1e-6 * jitter)
                          : i % 8 == 2 ? short_end * (1 + 1e-3 * jitter)
                          : i % 8 == 3 ? pi * (1 + 1e-6 * jitter)
-                         : i % 8 == 7 ? half_turn_short_end * (1 + 1e-3 * jitter)
+                         : i % 8 == 7 ? half_turn_end * (1 + 1e-3 * jitter)
                                       : uniform(rng, 0.0, pi);
     const typename G::Tangent phi = lst::tangentWithAngle<G>(rng, angle, 0.0);
     const typename G::Matrix C = G::exp(phi).matrix();
@@ -260,10 +267,11 @@ TEMPLATE_TEST_CASE("SO3 exp against a long-double reference, on each of its thre
 }
 
 TEST_CASE("SO3 float exp: the SSE matrix assembly equals the scalar one bit for bit", "[core][so3]") {
-  // detail::matrixFromHalfAngle has a float overload on SSE that performs the scalar template's
-  // operations in packets; <float> selects the template. On other targets both are the template.
+  // detail::matrixFromHalfAngle and detail::matrixFromRodrigues have float overloads on SSE that
+  // perform the scalar templates' operations in packets; <float> selects the template. On other
+  // targets both are the template.
   lieservo::sampling::Rng rng(11);
-  int differ = 0;
+  int differ = 0, differ_rodrigues = 0;
   for (int i = 0; i < 100000; ++i) {
     const Eigen::Vector3f phi = lst::tangentWithAngle<lieservo::SO3f>(rng, uniform(rng, 0.0, 1.6), 0.0);
     const float k = static_cast<float>(uniform(rng, 0.3, 0.5)), w = static_cast<float>(uniform(rng, 0.7, 1.0));
@@ -271,6 +279,13 @@ TEST_CASE("SO3 float exp: the SSE matrix assembly equals the scalar one bit for 
     lieservo::detail::matrixFromHalfAngle(phi, k, w, packed);
     lieservo::detail::matrixFromHalfAngle<float>(phi, k, w, scalar);
     differ += (packed.array() != scalar.array()).any() ? 1 : 0;
+    const Eigen::Vector3f psi = lst::tangentWithAngle<lieservo::SO3f>(rng, uniform(rng, 0.0, 3.2), 0.0);
+    const float x = psi.squaredNorm(), A = static_cast<float>(uniform(rng, 0.0, 1.0)),
+                B = static_cast<float>(uniform(rng, 0.2, 0.5));
+    lieservo::detail::matrixFromRodrigues(psi, x, A, B, packed);
+    lieservo::detail::matrixFromRodrigues<float>(psi, x, A, B, scalar);
+    differ_rodrigues += (packed.array() != scalar.array()).any() ? 1 : 0;
   }
   CHECK(differ == 0);
+  CHECK(differ_rodrigues == 0);
 }

@@ -62,21 +62,32 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
 
   // ---- exp / log --------------------------------------------------------------------------
   /// exp(φ^) = I + (sinθ/θ) φ^ + ((1 − cosθ)/θ²) φ^φ^ (Rodrigues). Any |φ|. Up to a half
-  /// turn no square root, sin/cos call or division is taken; every factor is a short series:
-  ///  - up to a quarter turn, the unit quaternion (w, v) = (cos(θ/2), (sin(θ/2)/θ) φ), its two
-  ///    factors as series in x = θ² (three terms for tiny angles);
-  ///  - beyond, where cos(θ/2) falls to 0 and the quaternion's matrix rounds worse, Rodrigues'
-  ///    own coefficients as series in x − π² (detail::kHalfTurnSeries; half the terms within
-  ///    0.029 rad of π).
+  /// turn no square root, sin/cos call or division is taken; every factor is a short series in
+  /// x = θ²:
+  ///  - for tiny angles the unit quaternion (w, v) = (cos(θ/2), (sin(θ/2)/θ) φ), three terms;
+  ///  - elsewhere Rodrigues' A = sinθ/θ and B = (1 − cosθ)/θ² as series about the centre of
+  ///    one of six equal pieces of [0, π²], or about π² itself near the half turn, where A
+  ///    falls to 0 (detail::kExpPieceSeries): the series is picked by a table index computed
+  ///    from x, not by a branch.
   /// Beyond a half turn, Rodrigues with one sin/cos of θ/2.
-  // The quarter turn inlined, the rest a call: most rotations a controller sees are small.
+  // Inlined. The two branches go the same way for almost every angle of a set (tiny, or beyond
+  // the half turn), so they are predicted; a branch between forms of similar cost would be
+  // mispredicted half the time on angles spread over the half turn (docs/math.md, "SO(3) exp
+  // up to a half turn").
   static EIGEN_ALWAYS_INLINE SO3 exp(const Tangent& phi) {
     const Scalar x = phi.squaredNorm();
-    if (!(x <= Scalar(Real(detail::kHalfAngleSplitX)))) return expBeyondQuarterTurn(phi, x);
-    const auto kw = x < Scalar(Real(detail::halfAngleShortMaxX<Scalar>()))
-                        ? detail::lanesEval(detail::kHalfAngleShortSeries<Scalar>.a, x)
-                        : detail::lanesEval(detail::kHalfAngleSeries<Scalar>.a, x);
-    return fromHalfAngle(phi, kw(0), kw(1));
+    if (x < Scalar(Real(detail::halfAngleShortMaxX<Scalar>()))) {
+      const auto kw = detail::lanesEval(detail::kHalfAngleShortSeries<Scalar>.a, x);
+      return fromHalfAngle(phi, kw(0), kw(1));
+    }
+    if (!(x <= Scalar(Real(detail::kHalfAngleSeriesMaxX)))) return expWith(phi, detail::AngleTerms<Scalar>(x));
+    const auto& p = detail::kExpPieceSeries<Scalar>;
+    constexpr int h = detail::ExpPieces<Scalar>::kHalfTurn;
+    const Scalar d_half_turn = (x - Scalar(p.hi[h])) - Scalar(p.lo[h]);
+    int i = std::min(int(x * Scalar(p.inv_width)), detail::kExpPieces - 1);
+    i = d_half_turn > -Scalar(p.half_turn_max_d) ? h : i;
+    const auto AB = detail::lanesEval(p.a[i], (x - Scalar(p.hi[i])) - Scalar(p.lo[i]));
+    return fromRodrigues(phi, x, AB(0), AB(1));
   }
 
   /// log(C)^∨ with θ = |φ| ∈ [0, π]: θ = atan2(sinθ, cosθ) from the antisymmetric part and the
@@ -272,18 +283,6 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
   }
 
   // ---- shared-trig kernels (public for SE(3); not part of the contract) ------------------
-  /// exp beyond a quarter turn (x = θ² = |φ|², also NaN): Rodrigues, with A and B as series
-  /// at π² up to the half turn.
-  static SO3 expBeyondQuarterTurn(const Tangent& phi, const Scalar& x) {
-    if (x <= Scalar(Real(detail::kHalfAngleSeriesMaxX))) {
-      const Scalar d = (x - Scalar(detail::kPiSquared<Real>.hi)) - Scalar(detail::kPiSquared<Real>.lo);
-      const auto AB = d > Scalar(-Real(detail::halfTurnShortMaxD<Scalar>()))
-                          ? detail::lanesEval(detail::kHalfTurnShortSeries<Scalar>.a, d)
-                          : detail::lanesEval(detail::kHalfTurnSeries<Scalar>.a, d);
-      return rodrigues(phi, x, AB(0), AB(1));
-    }
-    return expWith(phi, detail::AngleTerms<Scalar>(x));
-  }
   /// Kernel shared with SE3 (not part of the contract): exp from precomputed angle terms.
   static SO3 expWith(const Tangent& phi, const detail::AngleTerms<Scalar>& t) {
     return rodrigues(phi, t.theta2, detail::coeffA(t), detail::coeffB(t));
@@ -304,6 +303,12 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
     C(1, 2) -= a(0);
     C(2, 1) += a(0);
     return fromMatrixUnchecked(C);
+  }
+  /// I + A φ^ + B φ^φ^ for x = θ² = |φ|² (detail::matrixFromRodrigues).
+  static EIGEN_ALWAYS_INLINE SO3 fromRodrigues(const Tangent& phi, const Scalar& x, const Scalar& A, const Scalar& B) {
+    SO3 r;
+    detail::matrixFromRodrigues(phi, x, A, B, r.C_);
+    return r;
   }
   /// The rotation of the unit quaternion (w, v), v = k φ (detail::matrixFromHalfAngle).
   static SO3 fromHalfAngle(const Tangent& phi, const Scalar& k, const Scalar& w) {

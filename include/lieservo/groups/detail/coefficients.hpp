@@ -178,8 +178,8 @@ constexpr long double halfCosTerm(int n) noexcept {
   return (n % 2 == 0 ? 1.0L : -1.0L) / d;
 }
 
-/// x = θ² at which exp changes from the quaternion's series to those at the half turn: a
-/// quarter turn, (π/2)².
+/// x = θ² of a quarter turn, (π/2)²: the range over which the half-angle series are counted
+/// and tested (HalfAngleSeries; exp takes their first three terms, for tiny angles).
 constexpr long double kHalfAngleSplitX = 2.4674011002723396547086758650315838L;
 /// x = θ² up to which exp uses the series at all: a half turn, π².
 constexpr long double kHalfAngleSeriesMaxX = 9.8696044010893586188344909998761511L;
@@ -257,26 +257,27 @@ struct HalfAngleShortSeries {
 template <class Scalar>
 inline constexpr HalfAngleShortSeries<Scalar> kHalfAngleShortSeries{};
 
-// ---- exp beyond the quarter turn: Rodrigues' coefficients as series at the half turn ------
+// ---- exp near the half turn: Rodrigues' coefficients as series about π² ----------------------
 //
 // Near θ = π the half-angle factor cos(θ/2) falls to 0, and its series at x = 0 would form it
 // from terms of order one that cancel; the quaternion's matrix also rounds worse there than
-// Rodrigues' form. So beyond the quarter turn exp takes Rodrigues' A = sinθ/θ and
-// B = (1 − cosθ)/θ² as series at x0 = π², in d = x − π² ∈ [−3π²/4, 0], where A = −d/(2π²) + …
+// Rodrigues' form. So exp takes Rodrigues' A = sinθ/θ and B = (1 − cosθ)/θ² there, and near
+// the half turn itself as series about x0 = π², in d = x − π² ≤ 0, where A = −d/(2π²) + …
 // keeps its relative accuracy as it falls to 0. With f = cos(√x/2) and g = sin(√x/2)/√x,
 // A = 2fg and B = 2g², and f′ = −g/4, x g′ = f/4 − g/2 give f's and g's coefficients from
 // f₀ = 0, g₀ = 1/π by (n+1) f_{n+1} = −g_n/4 and x0 (n+1) g_{n+1} = f_n/4 − (n + 1/2) g_n (in
-// long double). By the omitted-term rule at |d| = 3π²/4 that is 13 terms in double, 8 in float.
+// long double).
 
-/// The first 24 coefficients of A (lane 0) and B (lane 1) at x0 = π².
-struct HalfTurnTerms {
-  long double A[24], B[24];
-  constexpr HalfTurnTerms() noexcept : A(), B() {
+/// The first 24 coefficients of A and B about x0 > 0, from f₀ = f(x0) and g₀ = g(x0).
+struct RodriguesTerms {
+  long double A[24] = {}, B[24] = {};
+  constexpr RodriguesTerms(long double x0, long double f0, long double g0) noexcept {
     long double f[24] = {}, g[24] = {};
-    g[0] = 1.0L / 3.1415926535897932384626433832795029L;
+    f[0] = f0;
+    g[0] = g0;
     for (int n = 0; n + 1 < 24; ++n) {
       f[n + 1] = -g[n] / (4.0L * (n + 1));
-      g[n + 1] = (f[n] / 4.0L - (n + 0.5L) * g[n]) / (kHalfAngleSeriesMaxX * (n + 1));
+      g[n + 1] = (f[n] / 4.0L - (n + 0.5L) * g[n]) / (x0 * (n + 1));
     }
     for (int n = 0; n < 24; ++n)
       for (int i = 0; i <= n; ++i) {
@@ -285,70 +286,121 @@ struct HalfTurnTerms {
       }
   }
 };
-inline constexpr HalfTurnTerms kHalfTurnTerms{};
+/// About π²: f₀ = cos(π/2) = 0 and g₀ = 1/π, exactly.
+inline constexpr RodriguesTerms kHalfTurnTerms{kHalfAngleSeriesMaxX, 0.0L,
+                                               1.0L / 3.1415926535897932384626433832795029L};
 
-/// The larger omitted term after K terms at |d| = 3π²/4: A's absolute (it falls to 0 at π and
-/// scales φ^, whose entries are of order one), B's relative to B₀ = B(π²) = 2/π².
-constexpr long double halfTurnOmitted(int K) noexcept {
-  long double dk = 1.0L;
-  for (int k = 0; k < K; ++k) dk *= kHalfAngleSeriesMaxX - kHalfAngleSplitX;
-  const long double a = kHalfTurnTerms.A[K] * dk, b = kHalfTurnTerms.B[K] / kHalfTurnTerms.B[0] * dk;
+// ---- exp up to the half turn: Rodrigues' coefficients piece by piece -------------------------
+//
+// Over x = θ² ∈ [0, π²] exp takes Rodrigues' A = sinθ/θ and B = (1 − cosθ)/θ² as series in
+// d = x − c_i about the centre c_i of one of kExpPieces equal pieces, the piece chosen by
+// arithmetic (i = ⌊x / w⌋), not by a branch: on angles spread over the half turn a branch
+// between forms is mispredicted on every other call. The recurrence of kHalfTurnTerms gives
+// the coefficients about any x0 > 0, from f₀ = cos(√x0/2), g₀ = sin(√x0/2)/√x0
+// (rodriguesTermsAbout). By the omitted-term rule below that is 9 terms in double and 5 in
+// float on every piece. Near the half turn A falls to 0, and about a centre
+// inside the piece its terms would cancel there: so one more slot, chosen by the same
+// arithmetic, holds the series about π² itself (kHalfTurnTerms, in d = x − π²), for d within
+// expHalfTurnMaxD of 0.
+
+/// Pieces of [0, π²].
+constexpr int kExpPieces = 6;
+
+/// sin and cos of y ∈ [0, π/2] by their Taylor series in long double (constexpr).
+constexpr void constexprSinCos(long double y, long double& s, long double& c) noexcept {
+  long double ts = y, tc = 1.0L;
+  s = 0.0L;
+  c = 0.0L;
+  for (int n = 0; n < 40; ++n) {
+    s += ts;
+    c += tc;
+    ts *= -y * y / ((2.0L * n + 2) * (2.0L * n + 3));
+    tc *= -y * y / ((2.0L * n + 1) * (2.0L * n + 2));
+  }
+}
+
+/// The coefficients about x0 ∈ (0, π²].
+constexpr RodriguesTerms rodriguesTermsAbout(long double x0) noexcept {
+  long double s = 0, c = 0;
+  const long double r = constexprRoot(x0, 2);
+  constexprSinCos(r / 2, s, c);
+  return RodriguesTerms(x0, c, s / r);
+}
+
+/// Piece i's centre, rounded to the real type: d = x − c_i is exact near c_i (Sterbenz), and
+/// the coefficients are those about the rounded centre.
+template <class Real>
+constexpr Real expPieceCentre(int i) noexcept {
+  return static_cast<Real>(kHalfAngleSeriesMaxX * (i + 0.5L) / kExpPieces);
+}
+
+/// The larger omitted term after K terms at half a piece's width: A's absolute (A scales φ^,
+/// whose entries are of order one), B's relative to B(c).
+constexpr long double expPieceOmitted(const RodriguesTerms& t, int K) noexcept {
+  long double hk = 1.0L;
+  for (int k = 0; k < K; ++k) hk *= kHalfAngleSeriesMaxX / (2 * kExpPieces);
+  const long double a = t.A[K] * hk, b = t.B[K] / t.B[0] * hk;
   const long double aa = a < 0 ? -a : a, ab = b < 0 ? -b : b;
   return aa > ab ? aa : ab;
 }
 
+/// Terms per piece: the first omitted term below eps/8 on every piece (one count for all, so
+/// that the piece is a table index).
 template <class Scalar>
-constexpr int halfTurnTermCount() noexcept {
-  for (int K = 3; K < 23; ++K)
-    if (halfTurnOmitted(K) < epsilonOf<Scalar>()) return K;
-  return 23;
+constexpr int expPieceTermCount() noexcept {
+  int K = 3;
+  for (int i = 0; i < kExpPieces; ++i) {
+    const RodriguesTerms t = rodriguesTermsAbout(static_cast<long double>(expPieceCentre<RealOf<Scalar>>(i)));
+    while (K < 23 && expPieceOmitted(t, K) >= epsilonOf<Scalar>() / 8) ++K;
+  }
+  return K;
 }
 
-/// The two series at the half turn for one scalar type: lane 0 A, lane 1 B.
+/// |d| = |x − π²| up to which the same number of terms of the series about π² holds its
+/// omitted term below eps/64: A there multiplies φ^, whose entries reach π, and where the
+/// slot ends its truncation must not make exp less accurate than Rodrigues with sin/cos
+/// (tests/groups/test_so3.cpp samples that end). θ within 0.15 rad of π in double, 0.10 in float.
 template <class Scalar>
-struct HalfTurnSeries {
+constexpr long double expHalfTurnMaxD() noexcept {
+  constexpr int K = expPieceTermCount<Scalar>();
+  const long double a = kHalfTurnTerms.A[K] < 0 ? -kHalfTurnTerms.A[K] : kHalfTurnTerms.A[K];
+  const long double b0 = kHalfTurnTerms.B[K] / kHalfTurnTerms.B[0], b = b0 < 0 ? -b0 : b0;
+  return constexprRoot(epsilonOf<Scalar>() / (64.0L * (a > b ? a : b)), K);
+}
+
+/// The pieces for one scalar type: 1/width; per slot (the kExpPieces pieces, then the half
+/// turn) the point expanded about, as hi + lo (d = (x − hi) − lo; lo ≠ 0 for π² alone), and
+/// lane 0 A, lane 1 B.
+template <class Scalar>
+struct ExpPieces {
   using Real = RealOf<Scalar>;
-  static constexpr int K = halfTurnTermCount<Scalar>();
+  static constexpr int K = expPieceTermCount<Scalar>();
   static constexpr int L = HalfAngleSeries<Scalar>::L;
-  alignas(16) Real a[K][L];
-  constexpr HalfTurnSeries() noexcept : a() {
+  static constexpr int kHalfTurn = kExpPieces;  // the slot of the series about π²
+  Real inv_width = static_cast<Real>(kExpPieces / kHalfAngleSeriesMaxX);
+  Real half_turn_max_d = static_cast<Real>(expHalfTurnMaxD<Scalar>());
+  Real hi[kExpPieces + 1] = {}, lo[kExpPieces + 1] = {};
+  alignas(16) Real a[kExpPieces + 1][K][L];
+  constexpr ExpPieces() noexcept : a() {
+    for (int i = 0; i < kExpPieces; ++i) {
+      hi[i] = expPieceCentre<Real>(i);
+      const RodriguesTerms t = rodriguesTermsAbout(static_cast<long double>(hi[i]));
+      for (int n = 0; n < K; ++n) {
+        a[i][n][0] = static_cast<Real>(t.A[n]);
+        a[i][n][1] = static_cast<Real>(t.B[n]);
+      }
+    }
+    hi[kHalfTurn] = kPiSquared<Real>.hi;
+    lo[kHalfTurn] = kPiSquared<Real>.lo;
     for (int n = 0; n < K; ++n) {
-      a[n][0] = static_cast<Real>(kHalfTurnTerms.A[n]);
-      a[n][1] = static_cast<Real>(kHalfTurnTerms.B[n]);
+      a[kHalfTurn][n][0] = static_cast<Real>(kHalfTurnTerms.A[n]);
+      a[kHalfTurn][n][1] = static_cast<Real>(kHalfTurnTerms.B[n]);
     }
   }
 };
 
 template <class Scalar>
-inline constexpr HalfTurnSeries<Scalar> kHalfTurnSeries{};
-
-/// Near the half turn itself half the terms suffice, for |d| below halfTurnShortMaxD (θ within
-/// 0.029 rad of π): a shorter chain there, as the three-term series near θ = 0. The omitted
-/// term is held below eps/64 there, not eps: A multiplies φ^, whose entries reach π, and at the
-/// cutoff the truncation must not make exp less accurate than Rodrigues with sin/cos
-/// (tests/groups/test_so3.cpp samples that end).
-template <class Scalar>
-struct HalfTurnShortSeries {
-  using Real = RealOf<Scalar>;
-  static constexpr int K = (HalfTurnSeries<Scalar>::K + 1) / 2;
-  static constexpr int L = HalfTurnSeries<Scalar>::L;
-  alignas(16) Real a[K][L];
-  constexpr HalfTurnShortSeries() noexcept : a() {
-    for (int n = 0; n < K; ++n)
-      for (int l = 0; l < L; ++l) a[n][l] = kHalfTurnSeries<Scalar>.a[n][l];
-  }
-};
-
-template <class Scalar>
-inline constexpr HalfTurnShortSeries<Scalar> kHalfTurnShortSeries{};
-
-template <class Scalar>
-constexpr long double halfTurnShortMaxD() noexcept {
-  constexpr int K = HalfTurnShortSeries<Scalar>::K;
-  const long double a = kHalfTurnTerms.A[K] < 0 ? -kHalfTurnTerms.A[K] : kHalfTurnTerms.A[K];
-  const long double b0 = kHalfTurnTerms.B[K] / kHalfTurnTerms.B[0], b = b0 < 0 ? -b0 : b0;
-  return constexprRoot(epsilonOf<Scalar>() / (64.0L * (a > b ? a : b)), K);
-}
+inline constexpr ExpPieces<Scalar> kExpPieceSeries{};
 
 /// sinθ/θ.
 template <class Scalar>

@@ -91,6 +91,52 @@ inline void matrixFromHalfAngle(const Eigen::Matrix<float, 3, 1>& phi, const flo
 }
 #endif
 
+/// Rodrigues' C = I + A φ^ + B φ^φ^ = B φφᵀ + (1 − Bθ²) I + A φ^ (exp: A = sinθ/θ,
+/// B = (1 − cosθ)/θ², x = θ²), entry by entry, packet-friendly like matrixFromHalfAngle. The
+/// diagonal B φ_i² + (1 − B x) adds cosθ to a square: beyond the quarter turn that rounds
+/// better than 1 − B(φ_j² + φ_k²), which cancels towards cosθ ≈ −1 at the half turn.
+/// Written into `C`.
+template <class Scalar>
+EIGEN_ALWAYS_INLINE void matrixFromRodrigues(const Eigen::Matrix<Scalar, 3, 1>& phi, const Scalar& x, const Scalar& A,
+                                const Scalar& B, Eigen::Matrix<Scalar, 3, 3>& C) {
+  const Eigen::Matrix<Scalar, 3, 1> b = B * phi, a = A * phi;
+  const Scalar c = Scalar(1) - B * x;
+  const Scalar xy = b(0) * phi(1), yz = b(1) * phi(2), xz = b(2) * phi(0);  // the packets' order
+  C(0, 0) = b(0) * phi(0) + c;
+  C(1, 0) = xy + a(2);
+  C(2, 0) = xz - a(1);
+  C(0, 1) = xy - a(2);
+  C(1, 1) = b(1) * phi(1) + c;
+  C(2, 1) = yz + a(0);
+  C(0, 2) = xz + a(1);
+  C(1, 2) = yz - a(0);
+  C(2, 2) = b(2) * phi(2) + c;
+}
+
+#if defined(__SSE2__)
+/// The same for float on SSE, packet by packet as matrixFromHalfAngle's: the same operations on
+/// the same operands as the scalar form, so the same result bit for bit.
+EIGEN_ALWAYS_INLINE void matrixFromRodrigues(const Eigen::Matrix<float, 3, 1>& phi, const float& x, const float& A,
+                                const float& B, Eigen::Matrix<float, 3, 3>& C) {
+  const __m128 v = _mm_setr_ps(phi(0), phi(1), phi(2), 0.f);
+  const __m128 vb = _mm_mul_ps(_mm_set1_ps(B), v);
+  const __m128 sq = _mm_mul_ps(vb, v);                                                     // xx yy zz
+  const __m128 wv = _mm_mul_ps(_mm_set1_ps(A), v);                                         // A φ
+  const __m128 off = _mm_mul_ps(vb, _mm_shuffle_ps(v, v, _MM_SHUFFLE(3, 0, 2, 1)));       // xy yz zx
+  const __m128 w_zxy = _mm_shuffle_ps(wv, wv, _MM_SHUFFLE(3, 1, 0, 2));
+  const __m128 diag = _mm_add_ps(sq, _mm_set1_ps(1.f - B * x));
+  const __m128 plus = _mm_add_ps(off, w_zxy);
+  const __m128 minus = _mm_sub_ps(off, w_zxy);
+  const __m128 dp = _mm_unpacklo_ps(diag, plus);
+  const __m128 first = _mm_movelh_ps(dp, _mm_shuffle_ps(minus, minus, _MM_SHUFFLE(0, 0, 0, 2)));
+  const __m128 pm = _mm_shuffle_ps(plus, minus, _MM_SHUFFLE(1, 1, 2, 2));
+  const __m128 second = _mm_shuffle_ps(dp, pm, _MM_SHUFFLE(2, 0, 3, 2));
+  _mm_storeu_ps(C.data(), first);
+  _mm_storeu_ps(C.data() + 4, second);
+  C.data()[8] = _mm_cvtss_f32(_mm_shuffle_ps(diag, diag, _MM_SHUFFLE(2, 2, 2, 2)));
+}
+#endif
+
 /// Unit quaternion (w, x, y, z) of a rotation matrix by Shepperd's pivot: the largest of
 /// {tr C, C00, C11, C22} selects which of 4w², 4x², 4y², 4z² is taken under the square root,
 /// so the radicand is ≥ 1 for any orthonormal C and no component is recovered from a small,

@@ -71,19 +71,24 @@ inline Scalar hornerEval(const SeriesTable<K>& s, const Scalar& x) {
 /// rounding of a Horner evaluation (they dominate it), the Estrin tail shortens the chain of
 /// dependent multiply-adds. K ≥ 3 terms, lanes side by side in a[k][0..L−1].
 template <class Scalar, int K, int L>
-inline Eigen::Array<Scalar, L, 1> lanesEval(const RealOf<Scalar> (&a)[K][L], const Scalar& x) {
+EIGEN_ALWAYS_INLINE Eigen::Array<Scalar, L, 1> lanesEval(const RealOf<Scalar> (&a)[K][L], const Scalar& x) {
   static_assert(K >= 3, "lanesEval needs at least three terms");
   using Lanes = Eigen::Array<Scalar, L, 1>;
   const auto term = [&a](int k) {
     return Eigen::Map<const Eigen::Array<RealOf<Scalar>, L, 1>>(a[k]).template cast<Scalar>();
   };
+  // Unrolled in full: called with a table chosen at run time (SO3::exp's pieces), GCC would
+  // otherwise keep these loops, and q in memory.
   Lanes q[K];
   int m = 0;
+#pragma GCC unroll 16
   for (int k = 2; k + 1 < K; k += 2) q[m++] = term(k) + x * term(k + 1);
   if ((K - 2) % 2 == 1) q[m++] = term(K - 1);
   Scalar y = x * x;
+#pragma GCC unroll 8
   while (m > 1) {
     int j = 0;
+#pragma GCC unroll 16
     for (int i = 0; i + 1 < m; i += 2) q[j++] = q[i] + y * q[i + 1];
     if (m % 2 == 1) q[j++] = q[m - 1];
     m = j;
