@@ -220,7 +220,7 @@ TEMPLATE_TEST_CASE("SO3 exp against a long-double reference, on each of its thre
                                         (th > 0 ? (1 - std::cos(th)) / (th * th) : 0.5L) * K * K;
     const double err = static_cast<double>((C.template cast<ld>() - ref).cwiseAbs().maxCoeff());
     const S x = phi.squaredNorm();
-    const int r = x <= S(lieservo::detail::kHalfAngleSplitX) ? 0 : x <= S(lieservo::detail::kHalfAngleSeriesMaxX) ? 1 : 2;
+    const int r = x <= S(pi * pi / 4) ? 0 : x <= S(lieservo::detail::kHalfAngleSeriesMaxX) ? 1 : 2;
     if (r < 2) {  // Rodrigues with sin/cos on the same φ, for comparison
       const typename G::Matrix Cr = G::expWith(phi, lieservo::detail::AngleTerms<S>(x)).matrix();
       rodrigues[r] = std::max(rodrigues[r], static_cast<double>((Cr.template cast<ld>() - ref).cwiseAbs().maxCoeff()));

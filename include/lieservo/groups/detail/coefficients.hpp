@@ -154,13 +154,13 @@ struct AngleTerms {
   }
 };
 
-// ---- the half-angle terms of exp on SO(3), as series over a quarter turn ------------------
+// ---- the half-angle terms of exp on SO(3), for tiny angles ----------------------------------
 //
 // exp(φ^) is the rotation of the unit quaternion (w, v) = (cos(θ/2), (sin(θ/2)/θ) φ). Both
 // factors are even and entire in θ, so they are power series in x = θ² alone: no square root,
-// no sin/cos call, no division. Over θ ≤ π/2 (x ≤ π²/4) a few terms reach the precision of
-// the scalar, and the two series run side by side in one SIMD packet (lanesEval). Beyond the
-// quarter turn exp takes Rodrigues' coefficients as series at the half turn (further below).
+// no sin/cos call, no division. For tiny angles three terms reach the precision of the scalar,
+// and the two series run side by side in one SIMD packet (lanesEval). Elsewhere up to the half
+// turn exp takes Rodrigues' coefficients as series (further below).
 
 /// sin(θ/2)/θ = Σ (−1)^n xⁿ / (2·4ⁿ·(2n+1)!), the n-th coefficient.
 constexpr long double halfSincTerm(int n) noexcept {
@@ -178,9 +178,6 @@ constexpr long double halfCosTerm(int n) noexcept {
   return (n % 2 == 0 ? 1.0L : -1.0L) / d;
 }
 
-/// x = θ² of a quarter turn, (π/2)²: the range over which the half-angle series are counted
-/// and tested (HalfAngleSeries; exp takes their first three terms, for tiny angles).
-constexpr long double kHalfAngleSplitX = 2.4674011002723396547086758650315838L;
 /// x = θ² up to which exp uses the series at all: a half turn, π².
 constexpr long double kHalfAngleSeriesMaxX = 9.8696044010893586188344909998761511L;
 
@@ -204,53 +201,32 @@ constexpr long double halfAngleOmitted(int K, long double x) noexcept {
   return as > ac ? as : ac;
 }
 
-/// The number of terms K for one scalar type: the first omitted term of each series stays
-/// below eps·|a0| at x = π²/4, the same rule as every other series here (series.hpp).
-template <class Scalar>
-constexpr int halfAngleTermCount() noexcept {
-  for (int K = 3; K < 40; ++K)
-    if (halfAngleOmitted(K, kHalfAngleSplitX) < epsilonOf<Scalar>()) return K;
-  return 40;
-}
-
-/// x below which the first three terms already reach eps by the same rule (θ < 0.015 in double,
-/// 0.42 in float): exp takes them alone there, with no square root, and tiny angles never
-/// reach the high powers of x, which would underflow into subnormal numbers (slow on x86 at
-/// θ ≲ 1e-8 in float).
+/// x below which the first three terms reach eps by the rule of every other series here (the
+/// first omitted term below eps·|a0|, series.hpp): θ < 0.015 in double, 0.42 in float. exp
+/// takes them alone there, with no square root, and tiny angles never reach the high powers
+/// of x, which would underflow into subnormal numbers (slow on x86 at θ ≲ 1e-8 in float).
 template <class Scalar>
 constexpr long double halfAngleShortMaxX() noexcept {
   const long double a3 = halfAngleOmitted(3, 1.0L);  // the larger omitted coefficient, relative
   return constexprRoot(epsilonOf<Scalar>() / a3, 3);
 }
 
-/// The two series' coefficients for one scalar type, lane 0 sin(θ/2)/θ and lane 1 cos(θ/2),
-/// rounded once from long double; float pads to a 4-lane packet.
+/// Lanes of a series packet: two in double, float padded to a 4-lane packet.
 template <class Scalar>
-struct HalfAngleSeries {
-  using Real = RealOf<Scalar>;
-  static constexpr int K = halfAngleTermCount<Scalar>();
-  static constexpr int L = std::is_same<Real, float>::value ? 4 : 2;
-  alignas(16) Real a[K][L];
-  constexpr HalfAngleSeries() noexcept : a() {
-    for (int n = 0; n < K; ++n) {
-      a[n][0] = static_cast<Real>(halfSincTerm(n));
-      a[n][1] = static_cast<Real>(halfCosTerm(n));
-    }
-  }
-};
+constexpr int kSeriesLanes = std::is_same<RealOf<Scalar>, float>::value ? 4 : 2;
 
-template <class Scalar>
-inline constexpr HalfAngleSeries<Scalar> kHalfAngleSeries{};
-
-/// The first three terms of the same series (halfAngleShortMaxX).
+/// The first three terms of the two series for one scalar type (halfAngleShortMaxX), lane 0
+/// sin(θ/2)/θ and lane 1 cos(θ/2), rounded once from long double.
 template <class Scalar>
 struct HalfAngleShortSeries {
   using Real = RealOf<Scalar>;
-  static constexpr int L = HalfAngleSeries<Scalar>::L;
+  static constexpr int L = kSeriesLanes<Scalar>;
   alignas(16) Real a[3][L];
   constexpr HalfAngleShortSeries() noexcept : a() {
-    for (int n = 0; n < 3; ++n)
-      for (int l = 0; l < L; ++l) a[n][l] = kHalfAngleSeries<Scalar>.a[n][l];
+    for (int n = 0; n < 3; ++n) {
+      a[n][0] = static_cast<Real>(halfSincTerm(n));
+      a[n][1] = static_cast<Real>(halfCosTerm(n));
+    }
   }
 };
 
@@ -375,7 +351,7 @@ template <class Scalar>
 struct ExpPieces {
   using Real = RealOf<Scalar>;
   static constexpr int K = expPieceTermCount<Scalar>();
-  static constexpr int L = HalfAngleSeries<Scalar>::L;
+  static constexpr int L = kSeriesLanes<Scalar>;
   static constexpr int kHalfTurn = kExpPieces;  // the slot of the series about π²
   Real inv_width = static_cast<Real>(kExpPieces / kHalfAngleSeriesMaxX);
   Real half_turn_max_d = static_cast<Real>(expHalfTurnMaxD<Scalar>());
