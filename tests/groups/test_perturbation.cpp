@@ -63,6 +63,35 @@ TEMPLATE_TEST_CASE("validateElement: finite, orthonormal, det +1", "[core][pertu
   CHECK(validateElement(G::fromMatrixUnchecked(M)) == Status::non_finite_input);
 }
 
+TEMPLATE_TEST_CASE("validateElement: the checked constructor's Status on 10^5 perturbed matrices",
+                   "[core][perturbation]", SO3<double>, SE3<double>, SO3<float>, SE3<float>) {
+  // SO(3) and SE(3) check their stored numbers (G::validate()); the Status must be the one
+  // G::fromMatrix gives the same matrix: an entry moved by 1e-12 to 1e-2, a column
+  // reflected, a NaN, an inf in the translation.
+  using G = TestType;
+  using S = typename G::Scalar;
+  lieservo::sampling::Rng rng(91);
+  int mismatches = 0, oks = 0, rejected = 0;
+  for (int k = 0; k < 100000; ++k) {
+    typename G::Matrix M = lst::uniformElement<G>(rng, S(10)).matrix();
+    const int kind = k % 5;
+    const int i = k % 3, j = (k / 3) % 3;
+    if (kind == 1) M(i, j) += S(std::pow(10.0, lieservo::sampling::uniform(rng, -12.0, -2.0)));
+    if (kind == 2) M.col(j).template head<3>() = -M.col(j).template head<3>();
+    if (kind == 3) M(i, j) = std::numeric_limits<S>::quiet_NaN();
+    if (kind == 4 && M.cols() == 4) M(i, 3) = std::numeric_limits<S>::infinity();
+    G tmp;
+    const Status expected = G::fromMatrix(M, tmp);
+    const Status got = validateElement(G::fromMatrixUnchecked(M));
+    mismatches += got != expected;
+    (expected == Status::ok ? oks : rejected) += 1;
+  }
+  INFO(oks << " valid, " << rejected << " rejected");
+  CHECK(mismatches == 0);
+  CHECK(oks > 20000);
+  CHECK(rejected > 40000);
+}
+
 TEMPLATE_TEST_CASE("rplus/rminus: inverse operations on the principal branch", "[core][perturbation]",
                    SO2<double>, SE2<double>, SO3<double>, SE3<double>, SE3<float>) {
   using G = TestType;

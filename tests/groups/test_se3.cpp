@@ -136,3 +136,32 @@ TEST_CASE("SE3 adjoint matches the paper's block form", "[core][se3]") {
   A.bottomRightCorner<3, 3>() = C;
   CHECK((X.Ad() - A).norm() == 0.0);
 }
+
+TEMPLATE_TEST_CASE("SE3 adjointCongruence equals Ad Sigma Ad^T", "[core][se3]", float, double) {
+  // Criterion, fixed before the run: every entry within 32 eps · (1 + |r|)² · max|Σ_ij| of the
+  // 6×6 products (both are sums of at most 36 products of that size), on 10⁵ seeded samples
+  // with |r| up to 1000 and covariances spanning six decades, plus the identity exactly.
+  using S = TestType;
+  using G = SE3<S>;
+  using J = typename G::Jacobian;
+  lieservo::sampling::Rng rng(77);
+  double worst = 0;
+  for (int k = 0; k < 100000; ++k) {
+    const S scale = S(std::pow(10.0, 3.0 * lieservo::sampling::uniform(rng, -1.0, 1.0)));
+    const G X = lst::uniformElement<G>(rng, scale);
+    J A;
+    for (int i = 0; i < 36; ++i) A(i) = S(lieservo::sampling::standardNormal(rng));
+    for (int i = 0; i < 6; ++i) A.row(i) *= S(std::pow(10.0, 1.5 * lieservo::sampling::uniform(rng, -1.0, 1.0)));
+    J Sigma = A * A.transpose();
+    lieservo::detail::symmetrize(Sigma);
+    const J Ad = X.Ad();
+    const J ref = Ad * Sigma * Ad.transpose();
+    const double r = double(X.translation().norm());
+    const double bound = 32 * lst::epsOf<S>() * (1 + r) * (1 + r) * double(Sigma.cwiseAbs().maxCoeff());
+    worst = std::max(worst, double((X.adjointCongruence(Sigma) - ref).cwiseAbs().maxCoeff()) / bound);
+  }
+  INFO("worst error over its bound " << worst);
+  CHECK(worst <= 1.0);
+  const J Sigma = J::Identity() * S(2);
+  CHECK((G::identity().adjointCongruence(Sigma) - Sigma).norm() == S(0));
+}

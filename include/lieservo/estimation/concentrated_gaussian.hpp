@@ -13,6 +13,7 @@
 #pragma once
 
 #include <type_traits>
+#include <utility>
 
 #include <Eigen/Core>
 
@@ -23,6 +24,27 @@
 #include <lieservo/estimation/jacobian_policy.hpp>
 
 namespace lieservo {
+
+namespace detail {
+template <class G, class = void>
+struct HasAdjointCongruence : std::false_type {};
+template <class G>
+struct HasAdjointCongruence<
+    G, std::void_t<decltype(std::declval<const G&>().adjointCongruence(std::declval<const typename G::Jacobian&>()))>>
+    : std::true_type {};
+
+/// Ad(X) Σ Ad(X)ᵀ: by blocks where the group offers it (SE(3): G::adjointCongruence), else the
+/// 6×6 products.
+template <class G>
+typename G::Jacobian adjointCongruence(const G& X, const typename G::Jacobian& Sigma) noexcept {
+  if constexpr (HasAdjointCongruence<G>::value) {
+    return X.adjointCongruence(Sigma);
+  } else {
+    const typename G::Jacobian Ad = X.Ad();
+    return Ad * Sigma * Ad.transpose();
+  }
+}
+}  // namespace detail
 
 /// A concentrated Gaussian on G: X = exp(ε^) mean, ε ~ N(0, covariance).
 template <class G>
@@ -80,10 +102,9 @@ Status ConcentratedGaussian<G>::validate() const noexcept {
 template <class G>
 ConcentratedGaussian<G> transformUnchecked(const ConcentratedGaussian<G>& x, const G& T_bar,
                                            const typename G::Jacobian& Sigma_phi) noexcept {
-  const typename G::Jacobian Ad = T_bar.Ad();
   ConcentratedGaussian<G> out;
   out.mean = T_bar * x.mean;
-  out.covariance = Ad * x.covariance * Ad.transpose() + Sigma_phi;
+  out.covariance = detail::adjointCongruence(T_bar, x.covariance) + Sigma_phi;
   detail::symmetrize(out.covariance);
   return out;
 }
@@ -115,8 +136,7 @@ template <class G>
 ConcentratedGaussian<G> inverse(const ConcentratedGaussian<G>& x) noexcept {
   ConcentratedGaussian<G> out;
   out.mean = x.mean.inverse();
-  const typename G::Jacobian Ad = out.mean.Ad();
-  out.covariance = Ad * x.covariance * Ad.transpose();
+  out.covariance = detail::adjointCongruence(out.mean, x.covariance);
   detail::symmetrize(out.covariance);
   return out;
 }
@@ -128,10 +148,9 @@ ConcentratedGaussian<G> inverse(const ConcentratedGaussian<G>& x) noexcept {
 template <class G>
 ConcentratedGaussian<G> compose(const ConcentratedGaussian<G>& a,
                                 const ConcentratedGaussian<G>& b) noexcept {
-  const typename G::Jacobian Ad = a.mean.Ad();
   ConcentratedGaussian<G> out;
   out.mean = a.mean * b.mean;
-  out.covariance = a.covariance + Ad * b.covariance * Ad.transpose();
+  out.covariance = a.covariance + detail::adjointCongruence(a.mean, b.covariance);
   detail::symmetrize(out.covariance);
   return out;
 }

@@ -28,6 +28,9 @@
 // (tests/groups/test_perturbation.cpp checks each against central differences.)
 #pragma once
 
+#include <type_traits>
+#include <utility>
+
 #include <lieservo/status.hpp>
 
 #include <Eigen/Core>
@@ -130,13 +133,25 @@ typename G::Tangent rminus(const G& X, const G& Y, typename G::Jacobian& J_X, ty
   return sigma;
 }
 
+namespace detail {
+/// Whether G checks its stored numbers itself (G::validate()), as SO(3) and SE(3) do.
+template <class G, class = void>
+struct HasValidate : std::false_type {};
+template <class G>
+struct HasValidate<G, std::void_t<decltype(std::declval<const G&>().validate())>> : std::true_type {};
+}  // namespace detail
+
 /// Is X a valid element? ok; non_finite_input (a NaN or inf); not_orthonormal (rotation block
 /// not orthonormal with det +1 within G's default tolerance); invalid_argument (homogeneous
 /// bottom row). The checks of the group's checked constructor G::fromMatrix.
 template <class G>
 Status validateElement(const G& X) noexcept {
-  G tmp;
-  return G::fromMatrix(X.matrix(), tmp);
+  if constexpr (detail::HasValidate<G>::value) {
+    return X.validate();  // the same checks on the stored numbers (SO(3), SE(3))
+  } else {
+    G tmp;
+    return G::fromMatrix(X.matrix(), tmp);
+  }
 }
 
 }  // namespace lieservo

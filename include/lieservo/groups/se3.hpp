@@ -112,6 +112,28 @@ class SE3 : public LieGroupBase<SE3<Scalar_>, Eigen::Matrix<Scalar_, 6, 1>, Eige
     }
     return A;
   }
+  /// Ad Σ Adᵀ for a symmetric Σ (a covariance carried through this motion, eq. 41,
+  /// eqn:se3_rv_probabilistic_transform_2), by 3×3 blocks: Ad = [[I, r^], [0, I]] diag(C, C), so
+  /// with C Σ Cᵀ blockwise = [[A, B], [Bᵀ, D]] and B' = B + r^D the result is
+  /// [[A + r^Bᵀ + (r^B'ᵀ)ᵀ, B'], [B'ᵀ, D]]: half the multiplications of the 6×6 products.
+  /// Symmetric up to rounding in the top-left block (callers symmetrise).
+  Jacobian adjointCongruence(const Jacobian& Sigma) const noexcept {
+    const Matrix3& C = C_.rotationMatrix();
+    const Matrix3 A = C * Sigma.template topLeftCorner<3, 3>() * C.transpose();
+    const Matrix3 B = C * Sigma.template topRightCorner<3, 3>() * C.transpose();
+    const Matrix3 D = C * Sigma.template bottomRightCorner<3, 3>() * C.transpose();
+    Matrix3 B2 = B;
+    for (int j = 0; j < 3; ++j) B2.col(j) += r_.cross(D.col(j));
+    Matrix3 top = A;
+    for (int j = 0; j < 3; ++j) top.col(j) += r_.cross(Vector3(B.row(j).transpose()));
+    for (int j = 0; j < 3; ++j) top.row(j) += r_.cross(Vector3(B2.row(j).transpose())).transpose();
+    Jacobian out;
+    out.template topLeftCorner<3, 3>() = top;
+    out.template topRightCorner<3, 3>() = B2;
+    out.template bottomLeftCorner<3, 3>() = B2.transpose();
+    out.template bottomRightCorner<3, 3>() = D;
+    return out;
+  }
   /// ad(ξ) = ξ⋏ = [[φ^, ρ^], [0, φ^]] (eq. 31, eqn:se3_algebra_adjoint).
   static Jacobian ad(const Tangent& xi) {
     Jacobian A;
@@ -249,6 +271,12 @@ class SE3 : public LieGroupBase<SE3<Scalar_>, Eigen::Matrix<Scalar_, 6, 1>, Eige
   /// Projects the rotation block to the nearest rotation (SO3::fromMatrixProjected).
   static Status fromMatrixProjected(const Matrix& M, SE3& out) noexcept {
     return detail::rigidFromMatrix<SE3, SO3Type>(M, true, SO3Type::defaultTolerance(), out);
+  }
+  /// fromMatrix's checks of the stored element (validateElement), without forming the 4×4
+  /// matrix: ok, non_finite_input (a NaN or inf anywhere) or not_orthonormal (the rotation).
+  Status validate() const noexcept {
+    if (!detail::allFinite(C_.rotationMatrix()) || !detail::allFinite(r_)) return Status::non_finite_input;
+    return C_.validate();
   }
   /// Re-orthonormalises the rotation (SO3::normalize), after long chains of compositions.
   void normalize() noexcept { C_.normalize(); }

@@ -161,12 +161,13 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
   static Status fromMatrix(const Matrix& C, SO3& out) noexcept { return fromMatrix(C, out, defaultTolerance()); }
   /// As the overload above, with the tolerance on ‖CᵀC − I‖_F given.
   static Status fromMatrix(const Matrix& C, SO3& out, Scalar tol) noexcept {
-    if (!C.allFinite()) return Status::non_finite_input;
-    if (!((C.transpose() * C - Matrix3::Identity()).norm() <= tol)) return Status::not_orthonormal;
-    if (!(C.determinant() > Scalar(0))) return Status::not_orthonormal;
-    out.C_ = C;
-    return Status::ok;
+    const Status s = check(C, tol);
+    if (s == Status::ok) out.C_ = C;
+    return s;
   }
+  /// fromMatrix's checks of the stored matrix at the default tolerance (validateElement):
+  /// ok, non_finite_input or not_orthonormal, without a copy.
+  Status validate() const noexcept { return check(C_, defaultTolerance()); }
   /// Nearest rotation in the Frobenius norm (SVD: U diag(1, 1, det(UVᵀ)) Vᵀ). Rejects
   /// non-finite input and matrices of rank < 2 (nearest rotation not unique).
   static Status fromMatrixProjected(const Matrix& M, SO3& out) noexcept {
@@ -354,6 +355,13 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
   }
 
  private:
+  // Finite, ‖CᵀC − I‖_F ≤ tol, det C > 0 (fromMatrix, validate).
+  static Status check(const Matrix& C, Scalar tol) noexcept {
+    if (!detail::allFinite(C)) return Status::non_finite_input;
+    if (!((C.transpose() * C - Matrix3::Identity()).norm() <= tol)) return Status::not_orthonormal;
+    if (!(C.determinant() > Scalar(0))) return Status::not_orthonormal;
+    return Status::ok;
+  }
   template <class>
   friend class SE3;  // composes and inverts into its own rotation in place (no temporaries)
   Matrix3 C_;

@@ -54,49 +54,61 @@ Status choleskyChecked(const Mat& S, Mat& L) noexcept {
   constexpr int n = Mat::RowsAtCompileTime;
   static_assert(n > 0 && n == Mat::ColsAtCompileTime, "fixed-size square matrix expected");
   if (!allFinite(S)) return Status::non_finite_input;
+  // Every loop is unrolled in full (n ≤ 6 here), so that the factor's entries stay in registers:
+  // rolled, each column's pivot waits on entries stored and loaded again.
   Scalar sd[n];
+#pragma GCC unroll 6
   for (int i = 0; i < n; ++i) {
     if (!(S(i, i) > Scalar(0))) return Status::not_spd;
     sd[i] = std::sqrt(S(i, i));
   }
   const Scalar tol = symmetryTolerance<Scalar>();
+  bool symmetric = true;  // one branch for the whole test
+#pragma GCC unroll 6
   for (int j = 0; j < n; ++j)
-    for (int i = j + 1; i < n; ++i)
-      if (!(std::abs(S(i, j) - S(j, i)) <= tol * sd[i] * sd[j])) return Status::not_spd;
+#pragma GCC unroll 6
+    for (int i = j + 1; i < n; ++i) symmetric &= std::abs(S(i, j) - S(j, i)) <= tol * sd[i] * sd[j];
+  if (!symmetric) return Status::not_spd;
   // Equilibrate: D S D with D = diag(1/sqrt(S_ii)) has a unit diagonal, so the pivot test
   // below is scale-free. Cholesky commutes with diagonal scaling: L = D⁻¹ chol(D S D).
   Scalar inv_sd[n];
+#pragma GCC unroll 6
   for (int i = 0; i < n; ++i) inv_sd[i] = Scalar(1) / sd[i];
   // Cholesky in LDLᵀ form on the equilibrated matrix (lower triangle of the symmetric part),
   // every pivot d_j = L_jj² checked against pivotTolerance. Each column waits on one reciprocal
   // 1/d_j, where the LLᵀ form waits on a square root and then a reciprocal; the six square
-  // roots L_jj = √d_j are independent and taken at the end. Written out: n ≤ 6 here, and
-  // Eigen's LDLT pivots (so its factor is not the Cholesky factor) and LLT also computes an
-  // unused L1 norm. U(i, k) = L̃(i, k) d_k is kept beside the unit-lower L̃.
-  Mat Lt = Mat::Zero();
-  Mat U = Mat::Zero();
-  Scalar dv[n];
+  // roots L_jj = √d_j are independent and taken at the end. Written out: Eigen's LDLT pivots
+  // (so its factor is not the Cholesky factor) and LLT also computes an unused L1 norm.
+  // U(i, k) = L̃(i, k) d_k is kept beside the unit-lower L̃.
+  Scalar Lt[n][n], U[n][n], dv[n];
   const Scalar ptol = pivotTolerance<Scalar>();
+#pragma GCC unroll 6
   for (int j = 0; j < n; ++j) {
     Scalar d = Scalar(1);  // the equilibrated diagonal
-    for (int k = 0; k < j; ++k) d -= Lt(j, k) * U(j, k);
+#pragma GCC unroll 6
+    for (int k = 0; k < j; ++k) d -= Lt[j][k] * U[j][k];
     if (!(d >= ptol)) return Status::not_spd;  // also catches NaN
     dv[j] = d;
     const Scalar inv_d = Scalar(1) / d;
+#pragma GCC unroll 6
     for (int i = j + 1; i < n; ++i) {
       Scalar v = (Scalar(0.5) * (S(i, j) + S(j, i)) * inv_sd[i]) * inv_sd[j];
-      for (int k = 0; k < j; ++k) v -= Lt(i, k) * U(j, k);
-      U(i, j) = v;
-      Lt(i, j) = v * inv_d;
+#pragma GCC unroll 6
+      for (int k = 0; k < j; ++k) v -= Lt[i][k] * U[j][k];
+      U[i][j] = v;
+      Lt[i][j] = v * inv_d;
     }
   }
-  Mat Le;
+  Mat Le;  // L = D⁻¹ L̃ diag(√d)
+#pragma GCC unroll 6
   for (int j = 0; j < n; ++j) {
     const Scalar ljj = std::sqrt(dv[j]);
-    Le.col(j) = Lt.col(j) * ljj;
-    Le(j, j) = ljj;
+#pragma GCC unroll 6
+    for (int i = 0; i < j; ++i) Le(i, j) = Scalar(0);
+    Le(j, j) = ljj * sd[j];
+#pragma GCC unroll 6
+    for (int i = j + 1; i < n; ++i) Le(i, j) = (Lt[i][j] * ljj) * sd[i];
   }
-  for (int i = 0; i < n; ++i) Le.row(i) *= sd[i];  // undo the row scaling: L = D⁻¹ Le
   if (!allFinite(Le)) return Status::numerical_failure;
   L = Le;
   return Status::ok;
