@@ -167,7 +167,7 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
   }
   /// fromMatrix's checks of the stored matrix at the default tolerance (validateElement):
   /// ok, non_finite_input or not_orthonormal, without a copy.
-  Status validate() const noexcept { return check(C_, defaultTolerance()); }
+  EIGEN_ALWAYS_INLINE Status validate() const noexcept { return check(C_, defaultTolerance()); }
   /// Nearest rotation in the Frobenius norm (SVD: U diag(1, 1, det(UVᵀ)) Vᵀ). Rejects
   /// non-finite input and matrices of rank < 2 (nearest rotation not unique).
   static Status fromMatrixProjected(const Matrix& M, SO3& out) noexcept {
@@ -188,7 +188,7 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
   /// Cheap re-orthonormalisation (a few flops, no SVD): the first two columns are
   /// symmetrically decorrelated and normalised, the third is their cross product. Restores
   /// ‖CᵀC − I‖ to ~eps from a drift of up to ~1e-3. Composition never calls it implicitly.
-  void normalize() noexcept {
+  EIGEN_ALWAYS_INLINE void normalize() noexcept {
     using std::sqrt;
     Vector3 x = C_.col(0), y = C_.col(1);
     const Scalar e = x.dot(y) * Scalar(Real(0.5));
@@ -356,7 +356,7 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
 
  private:
   // Finite, ‖CᵀC − I‖_F ≤ tol, det C > 0 (fromMatrix, validate).
-  static Status check(const Matrix& C, Scalar tol) noexcept {
+  EIGEN_ALWAYS_INLINE static Status check(const Matrix& C, Scalar tol) noexcept {
     if (!detail::allFinite(C)) return Status::non_finite_input;
     if (!((C.transpose() * C - Matrix3::Identity()).norm() <= tol)) return Status::not_orthonormal;
     if (!(C.determinant() > Scalar(0))) return Status::not_orthonormal;
