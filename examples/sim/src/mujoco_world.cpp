@@ -227,8 +227,9 @@ std::string sceneMjcf(const SceneSpec& spec) {
   // MPR (the convex collider: cylinders, meshes) to 0.1 nm. The conjugate-gradient solver to a
   // relative tolerance of 1e-5: on these scenes (24 DoF, 20–30 friction cones) it costs half of
   // the Newton solver's time per step (whose Hessian updates dominate), with the same pass
-  // rates over 30 seeded pushes per case (docs/simulation.md); 1e-5 is 6 % cheaper than 1e-6
-  // with every engine test passing, and 1e-4 lets a stuck gel slip (the stick test fails).
+  // rates over 30 seeded pushes per case (both at 1e-6, docs/simulation.md); 1e-5 is 6 %
+  // cheaper than 1e-6 with every engine test passing, and at 1e-4 a stuck gel slips (the stick
+  // test fails).
   // Then MuJoCo's noslip pass (kNoslipIterations) removes the soft model's creep in the
   // friction directions. With the noslip pass holding the stick, impratio stays at MuJoCo's
   // default 1 (SceneSpec): a harder friction impedance (10) ill-conditions the solve (24 CG
