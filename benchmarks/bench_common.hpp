@@ -102,4 +102,36 @@ struct FilterInputs {
   }
 };
 
+/// A ring of (sensor pose, observation) pairs that a consistent filter model produces: the
+/// sensor moves as in FilterInputs, the feature stays put in the world (so its pose in the
+/// sensor frame follows the sensor's motion, as the filter's prediction assumes), and each
+/// observation is the true pose perturbed by noise drawn from its own GDN-like σ. The
+/// observations of FilterInputs jump by up to 15° between steps against a σ of 0.5–2°: a mix
+/// of angles for the fixed-count step, far outside what the filter's model expects.
+template <class G>
+struct FilterSequence {
+  using Tangent = typename G::Tangent;
+  std::vector<G> sensor;
+  std::vector<lieservo::ConcentratedGaussian<G>> obs;
+  FilterSequence() {
+    lieservo::sampling::Rng rng(11);
+    G pose = G::identity();
+    const G feature = G::exp(randomTangent<G>(rng, 3.0, 10 * kDeg));  // in the world
+    for (std::size_t i = 0; i < kRing; ++i) {
+      pose = G::exp(randomTangent<G>(rng, 0.5, 1.0 * kDeg)) * pose;
+      sensor.push_back(pose);
+      const Tangent s = randomSigma<G>(rng);
+      Tangent m = (pose.inverse() * feature).log();
+      for (int k = 0; k < G::DoF; ++k) m(k) += s(k) * typename G::Scalar(standardNormal(rng));
+      lieservo::ConcentratedGaussian<G> o;
+      lieservo::fromTangentGaussian(m, s, o);
+      obs.push_back(o);
+    }
+  }
+  static const FilterSequence& get() {
+    static const FilterSequence in;
+    return in;
+  }
+};
+
 }  // namespace lieservo_bench

@@ -24,7 +24,7 @@ fi
 "$py" "$here/plot_report.py" "$tmp/report.csv" "$tmp/table.md" "$root/docs/performance_pareto.png"
 : > "$tmp/steps.json"
 [[ "${LIESERVO_REPORT_SKIP_STEPS:-0}" == 1 ]] || "$build/benchmarks/lieservo_bench" --benchmark_filter='BM_(FilterStep|FilterIterations|ServoStep|PushingStep|Cycle)|BM_exp<SE3<double>>$' \
-  --benchmark_repetitions=9 --benchmark_report_aggregates_only=true --benchmark_min_time=0.2 \
+  --benchmark_repetitions=9 --benchmark_enable_random_interleaving=true --benchmark_report_aggregates_only=true --benchmark_min_time=0.2 \
   --benchmark_format=json 2>/dev/null > "$tmp/steps.json" || true
 "$build/benchmarks/lieservo_speed_error_report" --dump "$tmp/cases.csv"
 "$py" "$here/numpy_baseline.py" --check "$tmp/cases.csv" --bench > "$tmp/numpy.txt"
@@ -40,10 +40,12 @@ fi
   echo "Compiler: $("$cxx" --version | head -1); flags: \`$flags\` (CMake Release), Eigen 3.4."
   echo
   if [[ -s "$tmp/steps.json" ]]; then
-  echo "#### Filter, controller and cycle steps (Google Benchmark, 9 repetitions, median)"
+  echo "#### Filter, controller and cycle steps (Google Benchmark, 9 repetitions interleaved at random, median)"
   echo
   echo "\`BM_FilterIterations/N\`: the filter step with N fusion iterations; \`BM_FilterStepConverged\`: with"
-  echo "the converged rule (\`FusionOptions::converged()\`); \"in exps\": the wall-clock median over"
+  echo "the converged rule (\`FusionOptions::converged()\`), on \`FilterSequence\` (observations as the filter's"
+  echo "model expects them) unless \`FilterInputs\` is named (observations that jump by up to 15°, the"
+  echo "other steps' inputs; benchmarks/bench_common.hpp); \"in exps\": the wall-clock median over"
   echo "\`BM_exp<SE3<double>>\`'s in the same run."
   echo
   echo "| benchmark | wall-clock median (ns) | CPU-time median (ns) | in exps |"
@@ -51,9 +53,10 @@ fi
   "$py" - "$tmp/steps.json" <<'PY'
 import json, sys
 rows = [r for r in json.load(open(sys.argv[1]))["benchmarks"] if r.get("aggregate_name") == "median"]
+rows.sort(key=lambda r: (r["family_index"], r["per_family_instance_index"]))  # as registered, not as interleaved
 exp = next((r["real_time"] for r in rows if r["run_name"] == "BM_exp<SE3<double>>"), None)
 for r in rows:
-    name = f"`{r['run_name'].replace('lieservo::', '')}`"
+    name = f"`{r['run_name'].replace('lieservo::', '').replace('lieservo_bench::', '')}`"
     if "iterations" in r and r["run_name"].startswith("BM_FilterStepConverged"):
         name += f" ({r['iterations']:.2f} iterations on average)"
     t = r["real_time"]

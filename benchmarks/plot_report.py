@@ -13,15 +13,31 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
+def tolerance(r):
+    """> 0: a row of the converged rule (its tolerance in standard deviations)."""
+    return float(r.get("tolerance") or 0)
+
+
 def label(r):
     name = "closed form" if r["policy"] == "closed" else f"series N={r['order']}"
-    return name + (", square-root form" if r.get("form") == "square_root" else "")
+    name += ", square-root form" if r.get("form") == "square_root" else ""
+    return name + (f", converged rule {tolerance(r):g} σ" if tolerance(r) > 0 else "")
+
+
+def iterations(r):
+    """The fixed count, or the converged rule's cap and mean number of updates."""
+    return f"≤ {r['iterations']} ({float(r['mean_updates']):.2f})" if tolerance(r) > 0 else r["iterations"]
+
+
+def kind(r):
+    return (r["policy"] + r["order"] + ("square_root" if r.get("form") == "square_root" else "")
+            + ("converged" if tolerance(r) > 0 else ""))
 
 
 def is_paper(r):
     """The paper's configuration: series N = 2, 5 iterations, the default (information) form."""
     return (r["policy"] == "series" and r["order"] == "2" and r["iterations"] == "5"
-            and r.get("form", "information") == "information")
+            and r.get("form", "information") == "information" and tolerance(r) == 0)
 
 
 def pareto(rows, key):
@@ -55,7 +71,7 @@ def main():
         for i, r in enumerate(rs):
             paper = " (paper)" if is_paper(r) else ""
             lines.append(
-                f"| {label(r)}{paper} | {r['iterations']} | {float(r['ns_median']):.0f} | {float(r[key]):.2e} | "
+                f"| {label(r)}{paper} | {iterations(r)} | {float(r['ns_median']):.0f} | {float(r[key]):.2e} | "
                 f"{float(r['real_trans_mean_mm']):.2e} | {float(r['real_cov_mean_rel']):.2e} | "
                 f"{float(r['hard_rot_max_rad']):.1e} | {float(r['hard_trans_max_mm']):.1e} | "
                 f"{float(r['hard_cov_max_rel']):.1e} | {r['hard_failures']}/{r['hard_cases']} "
@@ -66,20 +82,20 @@ def main():
 
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.8), sharey=True)
     markers = {"series1": "v", "series2": "o", "series3": "s", "series4": "D", "closed-1": "*",
-               "series2square_root": "P", "closed-1square_root": "X"}
+               "series2square_root": "P", "closed-1square_root": "X", "series2converged": "^",
+               "closed-1converged": "h"}
     for ax, scalar in zip(axes, ("double", "float")):
         rs = [r for r in rows if r["scalar"] == scalar]
         front = pareto(rs, key)
         for pol in markers:
-            sel = [r for r in rs
-                   if r["policy"] + r["order"] + ("square_root" if r.get("form") == "square_root" else "") == pol]
+            sel = [r for r in rs if kind(r) == pol]
             if not sel:
                 continue
             xs = [float(r["ns_median"]) for r in sel]
             ys = [max(float(r[key]), 1e-17) for r in sel]
             ax.plot(xs, ys, marker=markers[pol], linestyle="-", label=label(sel[0]), alpha=0.8)
             for r, x, y in zip(sel, xs, ys):
-                ax.annotate(r["iterations"], (x, y), textcoords="offset points", xytext=(4, 3), fontsize=7)
+                ax.annotate(f"{float(r['mean_updates']):.2f}" if tolerance(r) > 0 else r["iterations"], (x, y), textcoords="offset points", xytext=(4, 3), fontsize=7)
         fr = sorted((float(rs[i]["ns_median"]), max(float(rs[i][key]), 1e-17)) for i in front)
         ax.plot([p[0] for p in fr], [p[1] for p in fr], "k--", lw=0.8, label="Pareto front")
         paper = [r for r in rs if is_paper(r)]

@@ -154,6 +154,8 @@ Errors errorsOf(const lieservo::FusionResult<SE3<Scalar>>& res, const Reference&
 struct Row {
   std::string scalar, policy, form = "information";
   int order = 0, iterations = 0;
+  double tolerance = 0;     // > 0: the converged rule, `iterations` its cap
+  double mean_updates = 0;  // updates per call on the realistic set
   double ns = 0;
   Errors real_mean, real_max, hard_max;
   int real_fail = 0, hard_fail = 0, hard_n = 0;
@@ -165,7 +167,7 @@ template <class Policy, class Scalar>
 Row evaluate(const char* scalar_name, const char* policy_name, int iterations, const std::vector<Case>& real,
              const std::vector<Reference>& real_ref, const std::vector<Case>& hard,
              const std::vector<Reference>& hard_ref,
-             lieservo::FusionForm form = lieservo::FusionOptions<double>{}.form) {
+             lieservo::FusionForm form = lieservo::FusionOptions<double>{}.form, double tolerance = 0) {
   using G = SE3<Scalar>;
   Row row;
   row.scalar = scalar_name;
@@ -175,6 +177,11 @@ Row evaluate(const char* scalar_name, const char* policy_name, int iterations, c
   lieservo::FusionOptions<Scalar> opt;
   opt.max_iterations = iterations;
   opt.form = form;
+  if (tolerance > 0) {  // the converged rule, as FusionOptions::converged() sets it up
+    opt.tolerance = Scalar(tolerance);
+    opt.require_convergence = false;
+  }
+  row.tolerance = tolerance;
   row.form = form == lieservo::FusionForm::information ? "information" : "square_root";
   // Factors prepared once (the timing covers fuse() only).
   std::vector<ConcentratedGaussian<G>> f1(real.size()), f2(real.size());
@@ -193,6 +200,7 @@ Row evaluate(const char* scalar_name, const char* policy_name, int iterations, c
       continue;
     }
     const Errors e = errorsOf(res, real_ref[i]);
+    row.mean_updates += res.iterations;
     row.real_mean.rot += e.rot;
     row.real_mean.trans += e.trans;
     row.real_mean.cov += e.cov;
@@ -205,6 +213,7 @@ Row evaluate(const char* scalar_name, const char* policy_name, int iterations, c
     row.real_mean.rot /= n_ok;
     row.real_mean.trans /= n_ok;
     row.real_mean.cov /= n_ok;
+    row.mean_updates /= n_ok;
   }
   for (std::size_t i = 0; i < hard.size(); ++i) {
     ConcentratedGaussian<G> f[2];
@@ -242,14 +251,15 @@ Row evaluate(const char* scalar_name, const char* policy_name, int iterations, c
 const char* kHeader =
     "scalar,policy,order,iterations,ns_median,real_rot_mean_rad,real_trans_mean_mm,real_cov_mean_rel,"
     "real_rot_max_rad,real_trans_max_mm,real_cov_max_rel,real_failures,hard_rot_max_rad,hard_trans_max_mm,"
-    "hard_cov_max_rel,hard_failures,hard_cases,hard_fail_near_pi,hard_fail_extreme_sigma,hard_fail_tiny_angle,form";
+    "hard_cov_max_rel,hard_failures,hard_cases,hard_fail_near_pi,hard_fail_extreme_sigma,hard_fail_tiny_angle,form,"
+    "tolerance,mean_updates";
 
 void printRow(std::FILE* out, const Row& r) {
-  std::fprintf(out, "%s,%s,%d,%d,%.2f,%.3e,%.3e,%.3e,%.3e,%.3e,%.3e,%d,%.3e,%.3e,%.3e,%d,%d,%d,%d,%d,%s\n",
+  std::fprintf(out, "%s,%s,%d,%d,%.2f,%.3e,%.3e,%.3e,%.3e,%.3e,%.3e,%d,%.3e,%.3e,%.3e,%d,%d,%d,%d,%d,%s,%g,%.3f\n",
                r.scalar.c_str(), r.policy.c_str(), r.order, r.iterations, r.ns, r.real_mean.rot, r.real_mean.trans,
                r.real_mean.cov, r.real_max.rot, r.real_max.trans, r.real_max.cov, r.real_fail, r.hard_max.rot,
                r.hard_max.trans, r.hard_max.cov, r.hard_fail, r.hard_n, r.hard_fail_cat[0], r.hard_fail_cat[1],
-               r.hard_fail_cat[2], r.form.c_str());
+               r.hard_fail_cat[2], r.form.c_str(), r.tolerance, r.mean_updates);
 }
 
 template <class Scalar>
@@ -267,6 +277,14 @@ void allPolicies(std::vector<Row>& rows, const char* sname, const std::vector<Ca
     rows.push_back(evaluate<lieservo::SeriesJacobian<2>, Scalar>(sname, "series", it, real, rr, hard, hr, sq));
     rows.push_back(evaluate<lieservo::ClosedFormJacobian, Scalar>(sname, "closed", it, real, rr, hard, hr, sq));
   }
+  // The converged rule at its default (FusionOptions::converged(): its tolerance, at most 5 updates).
+  const auto rule = lieservo::FusionOptions<Scalar>::converged();
+  const auto info = lieservo::FusionForm::information;
+  const double tol = double(rule.tolerance);
+  rows.push_back(evaluate<lieservo::SeriesJacobian<2>, Scalar>(sname, "series", rule.max_iterations, real, rr, hard,
+                                                               hr, info, tol));
+  rows.push_back(evaluate<lieservo::ClosedFormJacobian, Scalar>(sname, "closed", rule.max_iterations, real, rr, hard,
+                                                                hr, info, tol));
 }
 
 // ---- --dump: inputs/outputs for the NumPy baseline -------------------------------------------

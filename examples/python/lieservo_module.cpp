@@ -354,7 +354,7 @@ void bindEstimation(py::module_& m, const std::string& suffix) {
            py::arg("form") = "information",
            "process_noise: Σφ (default: the paper's σφ = 0.5 mm and 0.5°, in radians); max_iterations, tolerance, "
            "require_convergence: the fusion's iteration control as lieservo.fuse (the paper: 5, 0; the converged "
-           "rule: tolerance=0.01, require_convergence=False); form: the fusion's 'information' (default) or "
+           "rule: tolerance=0.001, require_convergence=False); form: the fusion's 'information' (default) or "
            "'square_root' form.")
       .def(
           "step",

@@ -65,7 +65,7 @@ class DiscriminativeBayesFilter : public Configurable<DiscriminativeBayesFilter<
     /// Σφ of the state dynamics (finite, symmetric, positive SEMI-definite; 0 allowed).
     Jacobian process_noise = paperProcessNoise<G>();
     /// The correction's data fusion: FusionOptions::paper() (exactly 5 iterations, the default)
-    /// or FusionOptions::converged() (stop once an update is under 0.01 standard deviations).
+    /// or FusionOptions::converged() (stop once an update is under 0.001 standard deviations).
     FusionOptions<Scalar> fusion{};
     /// Reject observations whose NIS exceeds the χ²(DoF) quantile at gate_probability.
     bool gating = false;
@@ -121,15 +121,15 @@ class DiscriminativeBayesFilter : public Configurable<DiscriminativeBayesFilter<
     if (!initialised_) return initialise(sensor_pose, observation);
     const G T_bar = sensor_pose.inverse() * sensor_pose_;
     Gaussian bel;
-    Jacobian L_bel;
-    s = predictInto(filtered_, T_bar, bel, L_bel);
+    Jacobian L[2];  // the Cholesky factors of the observation's and the belief's covariances
+    s = predictInto(filtered_, T_bar, bel, L[1]);
     if (s != Status::ok) return diag_.last_status = s;
-    Gaussian fil;
+    FusionResult<G> fused;
     Diagnostics d = diag_;
-    s = correctInto(bel, L_bel, observation, fil, d);
+    s = correctInto(bel, observation, L, fused, d);
     if (s != Status::ok && s != Status::outlier_rejected) return diag_.last_status = s;
+    filtered_ = s == Status::ok ? fused.fused : bel;
     belief_ = bel;
-    filtered_ = fil;
     sensor_pose_ = sensor_pose;
     diag_ = d;
     return diag_.last_status = s;
@@ -170,14 +170,14 @@ class DiscriminativeBayesFilter : public Configurable<DiscriminativeBayesFilter<
   Status correct(const Gaussian& observation) noexcept {
     if (const Status c = this->configurationStatus(); c != Status::ok) return diag_.last_status = c;
     if (!initialised_) return diag_.last_status = Status::not_initialised;
-    Jacobian L_bel;
-    Status s = detail::choleskyChecked(filtered_.covariance, L_bel);
+    Jacobian L[2];
+    Status s = detail::choleskyChecked(filtered_.covariance, L[1]);
     if (s != Status::ok) return diag_.last_status = s;
-    Gaussian fil;
+    FusionResult<G> fused;
     Diagnostics d = diag_;
-    s = correctInto(filtered_, L_bel, observation, fil, d);
+    s = correctInto(filtered_, observation, L, fused, d);
     if (s != Status::ok && s != Status::outlier_rejected) return diag_.last_status = s;
-    filtered_ = fil;
+    if (s == Status::ok) filtered_ = fused.fused;  // rejected: the state stays as it was
     diag_ = d;
     return diag_.last_status = s;
   }
@@ -232,25 +232,26 @@ class DiscriminativeBayesFilter : public Configurable<DiscriminativeBayesFilter<
   // The state is valid at all times (initialise validates it, fuse checks what it returns) and
   // the options were validated by configure, so the step checks only what comes from outside: the
   // sensor pose and the observation. T̄ is a product of valid elements. Each covariance is
-  // factorised once per step and its Cholesky factor handed on to the fusion.
-  Status predictInto(const Gaussian& fil, const G& T_bar, Gaussian& bel,
-                     Jacobian& L_bel) const noexcept {
-    Gaussian r = transformUnchecked(fil, T_bar, options_.process_noise);  // eq. 12 (eqn:bayes_filter_prediction)
-    r.mean.normalize();
-    if (!r.mean.allFinite() || !detail::allFinite(r.covariance))
-      return Status::numerical_failure;
-    if (detail::repairSpd(r.covariance, &L_bel) != Status::ok)
-      return Status::numerical_failure;
-    bel = r;
+  // factorised once per step and its Cholesky factor handed on to the fusion. The outputs are
+  // the caller's scratch (written in place, no temporaries copied), stored only on success.
+  Status predictInto(const Gaussian& fil, const G& T_bar, Gaussian& bel, Jacobian& L_bel) const noexcept {
+    // eq. 12 (eqn:bayes_filter_prediction), as transformUnchecked
+    bel.mean = T_bar * fil.mean;
+    bel.mean.normalize();
+    bel.covariance = detail::adjointCongruence(T_bar, fil.covariance) + options_.process_noise;
+    if (!bel.mean.allFinite()) return Status::numerical_failure;
+    // repairSpd symmetrises, checks finiteness and factorises
+    if (detail::repairSpd(bel.covariance, &L_bel) != Status::ok) return Status::numerical_failure;
     return Status::ok;
   }
 
-  Status correctInto(const Gaussian& bel, const Jacobian& L_bel, const Gaussian& obs,
-                     Gaussian& fil, Diagnostics& d) const noexcept {
+  // L[1] holds the belief's Cholesky factor; L[0] receives the observation's. On ok, `fused` is
+  // the correction; on outlier_rejected the caller keeps the belief.
+  Status correctInto(const Gaussian& bel, const Gaussian& obs, Jacobian (&L)[2], FusionResult<G>& fused,
+                     Diagnostics& d) const noexcept {
     Status s = validateElement(obs.mean);
     if (s != Status::ok) return s;
-    Jacobian L_obs;
-    s = detail::choleskyChecked(obs.covariance, L_obs);
+    s = detail::choleskyChecked(obs.covariance, L[0]);
     if (s != Status::ok) return s;
     // The innovation ν = ln(X̄_obs X̄_bel⁻¹)^∨ is also the belief's ξ at the fusion's first
     // operating point (the observation): it and its J(ν)⁻¹ are computed once, as the fusion
@@ -261,7 +262,6 @@ class DiscriminativeBayesFilter : public Configurable<DiscriminativeBayesFilter<
     s = detail::innovationNis<G>(innovation.xi, obs.covariance, bel.covariance, nis);
     if (s != Status::ok) return s;
     if (options_.gating && !(nis <= d.gate_threshold)) {
-      fil = bel;
       d.nis = nis;
       d.gated = true;
       d.iterations = 0;
@@ -271,13 +271,11 @@ class DiscriminativeBayesFilter : public Configurable<DiscriminativeBayesFilter<
       ++d.rejected;
       return Status::outlier_rejected;
     }
-    FusionResult<G> r;
     // Algorithm 3 (alg:se3_data_fusion), the operating point starting at the observation (as the paper).
     const G means[2] = {obs.mean, bel.mean};
-    const Jacobian L[2] = {L_obs, L_bel};
-    s = detail::fuseFactored<Policy>(means, L, 2, options_.fusion, r, &innovation);
+    s = detail::fuseFactored<Policy>(means, L, 2, options_.fusion, fused, &innovation);
     if (s != Status::ok) return s;
-    fil = r.fused;
+    const FusionResult<G>& r = fused;
     d.nis = nis;
     d.gated = false;
     d.iterations = r.iterations;

@@ -100,7 +100,7 @@ struct FusionOptions {
   static FusionOptions paper() noexcept { return FusionOptions(); }
   /// The converged rule: stop once an update is under `tol` standard deviations, after at most
   /// `max` updates (never more work than the paper's 5; docs/estimation.md, "Stopping rule").
-  static FusionOptions converged(Scalar tol = Scalar(0.01), int max = 5) noexcept {
+  static FusionOptions converged(Scalar tol = Scalar(0.001), int max = 5) noexcept {
     FusionOptions o;
     o.max_iterations = max;
     o.tolerance = tol;
@@ -434,7 +434,9 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
   Jacobian H = Jacobian::Zero();  // information form: H = Σ A_iᵀA_i, g = Σ A_iᵀb_i
   Tangent g = Tangent::Zero();
   Jacobian R = Jacobian::Identity();
-  Jacobian Hinv = Jacobian::Identity();
+  // The result is formed in place: the information form's H⁻¹ is Σ* after the last iteration.
+  ConcentratedGaussian<G> fused;
+  Jacobian& Hinv = fused.covariance;
   Scalar inverse_trace(0);  // trace of the equilibrated H⁻¹ (spdInverse)
   Tangent mu = Tangent::Zero();
   Scalar step(0), step_sigmas(0);
@@ -524,10 +526,9 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
   X.normalize();
   // Σ* = H⁻¹ = (RᵀR)⁻¹ = R⁻¹ R⁻ᵀ, from the last linearisation (as the paper's algorithm
   // returns it).
-  Jacobian Sigma;
-  if (information_form) {
-    Sigma = Hinv;
-  } else {
+  fused.mean = X;
+  Jacobian& Sigma = fused.covariance;  // information form: H⁻¹ already
+  if (!information_form) {
     const Jacobian Rinv = upperTriangularInverse(R);
     Sigma = Rinv * Rinv.transpose();
   }
@@ -546,9 +547,6 @@ Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
   // Σ* can pass the checks above and still fail those (SO(3), first-order series Jacobian), and
   // the certificate rests on the computed trace, which rounding can make look well conditioned
   // when H is singular to working precision.
-  ConcentratedGaussian<G> fused;
-  fused.mean = X;
-  fused.covariance = Sigma;
   if (fused.validate() != Status::ok) return Status::numerical_failure;
   result.fused = fused;
   result.iterations = it;
