@@ -235,10 +235,9 @@ class DiscriminativeBayesFilter : public Configurable<DiscriminativeBayesFilter<
   // factorised once per step and its Cholesky factor handed on to the fusion. The outputs are
   // the caller's scratch (written in place, no temporaries copied), stored only on success.
   Status predictInto(const Gaussian& fil, const G& T_bar, Gaussian& bel, Jacobian& L_bel) const noexcept {
-    // eq. 12 (eqn:bayes_filter_prediction), as transformUnchecked
-    bel.mean = T_bar * fil.mean;
+    // eq. 12 (eqn:bayes_filter_prediction): eq. 41's products, as transformUnchecked
+    detail::transformProducts(fil, T_bar, options_.process_noise, bel);
     bel.mean.normalize();
-    bel.covariance = detail::adjointCongruence(T_bar, fil.covariance) + options_.process_noise;
     if (!bel.mean.allFinite()) return Status::numerical_failure;
     // repairSpd symmetrises, checks finiteness and factorises
     if (detail::repairSpd(bel.covariance, &L_bel) != Status::ok) return Status::numerical_failure;

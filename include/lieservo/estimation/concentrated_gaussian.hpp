@@ -94,6 +94,18 @@ Status ConcentratedGaussian<G>::validate() const noexcept {
   return lieservo::validate(*this);
 }
 
+namespace detail {
+/// The two products of eq. 41 (eqn:se3_rv_probabilistic_transform_2) written into `out` (which must not alias `x`), neither
+/// normalised nor symmetrised: transformUnchecked symmetrises, the filter's prediction
+/// normalises and factorises.
+template <class G>
+void transformProducts(const ConcentratedGaussian<G>& x, const G& T_bar, const typename G::Jacobian& Sigma_phi,
+                       ConcentratedGaussian<G>& out) noexcept {
+  out.mean = T_bar * x.mean;
+  out.covariance = adjointCongruence(T_bar, x.covariance) + Sigma_phi;
+}
+}  // namespace detail
+
 /// Probabilistic transformation X' = T X with T = exp(φ^) T̄, φ ~ N(0, Σφ) independent of X
 /// (eq. 41, eqn:se3_rv_probabilistic_transform_2, first order in the covariances):
 ///     X̄' = T̄ X̄,    Σ' = Ad(T̄) Σ Ad(T̄)ᵀ + Σφ.
@@ -103,8 +115,7 @@ template <class G>
 ConcentratedGaussian<G> transformUnchecked(const ConcentratedGaussian<G>& x, const G& T_bar,
                                            const typename G::Jacobian& Sigma_phi) noexcept {
   ConcentratedGaussian<G> out;
-  out.mean = T_bar * x.mean;
-  out.covariance = detail::adjointCongruence(T_bar, x.covariance) + Sigma_phi;
+  detail::transformProducts(x, T_bar, Sigma_phi, out);
   detail::symmetrize(out.covariance);
   return out;
 }
