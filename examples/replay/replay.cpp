@@ -473,6 +473,9 @@ ReplayResults runReplay(const ReplayOptions& opt) {
       for (const auto& note : run.notes) res.notes.push_back(note);
       res.filter.push_back(run.row);
       traces.push_back(std::move(run));
+      const FilterRun rule = replayFilter(samples, obs, sig, opt.seed, FusionOptions<double>::converged());
+      for (const auto& note : rule.notes) res.notes.push_back("converged rule: " + note);
+      res.filter_converged.push_back(rule.row);
     }
   }
   if (gdn_card.hasSigmaCalibration()) {  // the same experiment with the card's calibrated σ
@@ -533,6 +536,23 @@ const char* kComp[6] = {"v_x / rho_x (mm)", "v_y / rho_y (mm)", "v_z / rho_z (mm
                         "w_x / phi_x (deg)", "w_y / phi_y (deg)", "w_z / phi_z (deg)"};
 
 int precOf(std::size_t j) { return j < 3 ? 3 : 2; }
+
+std::string sci(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.1e", v);
+  return b;
+}
+
+/// The largest |MAE difference| between two rows: over the translations (mm) and over the
+/// rotations (deg).
+std::pair<double, double> maeDifference(const FilterRow& a, const FilterRow& b) {
+  double mm = 0, deg = 0;
+  for (std::size_t j = 0; j < 6; ++j) {
+    double& worst = j < 3 ? mm : deg;
+    worst = std::max(worst, std::fabs(a.mae[j] - b.mae[j]));
+  }
+  return {mm, deg};
+}
 
 const Vec6* paperFilterRow(double sigma) {
   for (std::size_t i = 0; i < PaperTables::sigma.size(); ++i)
@@ -619,6 +639,15 @@ std::string ReplayResults::table() const {
       os << "  " << std::left << std::setw(18) << kComp[j] << std::right << "      ";
       for (const auto& r : filter_calibrated) os << "  " << f3(r.mae[j], precOf(j)) << " x" << f3(r.mae[j] / gdn_mae[j], 2);
       os << "\n";
+    }
+  }
+  if (filter_converged.size() == filter.size() && !filter.empty()) {
+    os << "  converged rule (an update under 0.001 sigma, at most 5): updates per correction, largest |MAE difference| "
+          "from the 5 iterations (mm, deg)\n";
+    for (std::size_t i = 0; i < filter.size(); ++i) {
+      const auto [mm, deg] = maeDifference(filter_converged[i], filter[i]);
+      os << "    sigma " << filter[i].sigma_psi << ": " << f3(filter_converged[i].mean_iterations, 2) << " updates, "
+         << sci(mm) << " mm, " << sci(deg) << " deg\n";
     }
   }
   for (const auto& r : filter)
@@ -723,6 +752,17 @@ std::string ReplayResults::markdown(const ReplayOptions& o, const std::string& c
     }
   };
   sigmaTable(filter);
+  if (filter_converged.size() == filter.size() && !filter.empty()) {
+    md << "\nThe same runs with the converged rule (`FusionOptions::converged()`: stop after an update under 0.001 "
+          "standard deviations, at most 5; docs/estimation.md, \"Stopping rule\") instead of the paper's 5 iterations:\n\n"
+          "| σψ | updates per correction | largest \\|MAE difference\\| from 5 iterations, mm | the same, deg | failed steps |\n"
+          "|---|---|---|---|---|\n";
+    for (std::size_t i = 0; i < filter.size(); ++i) {
+      const auto [mm, deg] = maeDifference(filter_converged[i], filter[i]);
+      md << "| " << filter[i].sigma_psi << " | " << f3(filter_converged[i].mean_iterations, 2) << " | " << sci(mm)
+         << " | " << sci(deg) << " | " << filter_converged[i].failures << " |\n";
+    }
+  }
   if (have_calibration) {
     md << "\n### Table 2 with the model card's σ calibration\n\n";
     md << "The same experiment with each GDN σ multiplied by the card's `sigma_calibration.scale` = (";
@@ -754,7 +794,7 @@ std::string ReplayResults::markdown(const ReplayOptions& o, const std::string& c
     for (const auto& note : notes) md << "- " << note << "\n";
   }
   md << "\n## Timing\n\nload " << f3(seconds_load, 2) << " s, inference " << f3(seconds_inference, 2) << " s"
-     << (inference_cached ? " (cached)" : "") << ", filter (" << filter.size() + filter_calibrated.size() << " runs) " << f3(seconds_filter, 2)
+     << (inference_cached ? " (cached)" : "") << ", filter (" << filter.size() + filter_calibrated.size() + filter_converged.size() << " runs) " << f3(seconds_filter, 2)
      << " s, plots " << f3(seconds_plots, 2) << " s, total " << f3(seconds_total, 2) << " s wall, "
      << f3(cpu_seconds_total, 1) << " s CPU (all threads; the wall time depends on the machine's load). "
         "With `--cache FILE` the network outputs are kept (keyed by the ONNX files' hashes) and a re-run "

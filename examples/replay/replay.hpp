@@ -69,6 +69,9 @@ struct ReplayResults {
   double gdn_nll_rad_with_c = 0.0;///< ... plus c = 3 ln(2π)
   double cnn_mse_rad = 0.0;       ///< weighted MSE, α = (1,1,1,100,100,100), rotations in radians
   std::vector<FilterRow> filter;  ///< Table 2 (σψ = ∞ is gdn_mae), the network's σ as in the paper
+  /// The same runs with the converged rule (FusionOptions::converged()) instead of the paper's
+  /// 5 iterations: how many updates a correction takes on real observations.
+  std::vector<FilterRow> filter_converged;
   // When the model card has a σ calibration (ModelCard::sigma_scale), Table 2 again with it:
   bool have_calibration = false;
   Vec6 sigma_scale{1, 1, 1, 1, 1, 1};

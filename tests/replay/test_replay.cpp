@@ -210,6 +210,18 @@ TEST_CASE("replay: Table 2 filter experiment on a synthetic sequence", "[replay]
   // Deterministic for a seed.
   const FilterRun again = replayFilter(samples, obs, 0.1, 1);
   for (std::size_t j = 0; j < 6; ++j) CHECK(again.row.mae[j] == f01.row.mae[j]);
+  // The converged rule: fewer updates than the paper's 5, the same errors (within 1e-4 mm and
+  // 1e-4 deg per component: it stops within 1e-6 of the converged result, as 5 iterations do).
+  for (const FilterRun* paper : {&f10, &f01, &f001}) {
+    const FilterRun rule =
+        replayFilter(samples, obs, paper->row.sigma_psi, 1, lieservo::FusionOptions<double>::converged());
+    INFO("sigma_psi " << paper->row.sigma_psi << ": " << rule.row.mean_iterations << " updates per correction");
+    CHECK(paper->row.mean_iterations == 5.0);
+    CHECK(rule.row.mean_iterations >= 1.0);
+    CHECK(rule.row.mean_iterations < 5.0);
+    CHECK(rule.row.failures == 0);
+    for (std::size_t j = 0; j < 6; ++j) CHECK(std::fabs(rule.row.mae[j] - paper->row.mae[j]) <= 1e-4);
+  }
 }
 
 TEST_CASE("replay: end to end on real images with the tiny test models", "[replay][data]") {
@@ -232,11 +244,15 @@ TEST_CASE("replay: end to end on real images with the tiny test models", "[repla
   CHECK(r.have_cnn);
   CHECK_FALSE(r.inference_cached);
   REQUIRE(r.filter.size() == 4);
+  REQUIRE(r.filter_converged.size() == 4);
   for (std::size_t j = 0; j < 6; ++j) {
     CHECK(std::isfinite(r.gdn_mae[j]));
     CHECK(std::isfinite(r.cnn_mae[j]));
     for (const auto& row : r.filter) CHECK(std::isfinite(row.mae[j]));
+    // The converged rule on real observations: the paper's errors (1e-4 mm and deg).
+    for (std::size_t i = 0; i < 4; ++i) CHECK(std::fabs(r.filter_converged[i].mae[j] - r.filter[i].mae[j]) <= 1e-4);
   }
+  for (const auto& row : r.filter_converged) CHECK(row.mean_iterations < 5.0);
   CHECK(std::isfinite(r.gdn_nll_rad));
   CHECK(r.plots.size() == 6);
   for (const auto& p : r.plots) {
