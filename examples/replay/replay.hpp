@@ -48,6 +48,20 @@ std::string displayPath(const std::string& path, const std::string& root, bool e
 
 using Vec6 = std::array<double, 6>;
 
+struct Sample {
+  std::string image;  ///< file name in processed_images/
+  Vec6 euler{};       ///< (x, y, z, α, β, γ), mm and deg
+  Vec6 xi{};          ///< label ξ, mm and rad
+};
+
+/// How far a filter's corrections stop from the fusion run to convergence (an update under
+/// 1e-12 σ, at most 50) on the same belief and observation: the largest over the corrections.
+struct FusionError {
+  double mm = 0.0;     ///< translation error ‖Δρ‖, mm
+  double rad = 0.0;    ///< rotation error ‖Δφ‖, rad
+  double sigma = 0.0;  ///< Mahalanobis length in the converged fusion's covariance
+};
+
 struct FilterRow {
   double sigma_psi = 0.0;        ///< mm and deg
   Vec6 mae{};                    ///< mm, mm, mm, deg, deg, deg
@@ -68,10 +82,16 @@ struct ReplayResults {
   double gdn_nll_rad = 0.0;       ///< mean NLL without c, rotations in radians (paper units)
   double gdn_nll_rad_with_c = 0.0;///< ... plus c = 3 ln(2π)
   double cnn_mse_rad = 0.0;       ///< weighted MSE, α = (1,1,1,100,100,100), rotations in radians
+  std::vector<Sample> samples;    ///< the replayed sequence (after quick / unseen_only)
+  /// The GDN's observations of `samples` with the network's own σ (eq. 14): what Table 2 filters.
+  std::vector<ConcentratedGaussian<SE3d>> observations;
   std::vector<FilterRow> filter;  ///< Table 2 (σψ = ∞ is gdn_mae), the network's σ as in the paper
   /// The same runs with the converged rule (FusionOptions::converged()) instead of the paper's
   /// 5 iterations: how many updates a correction takes on real observations.
   std::vector<FilterRow> filter_converged;
+  /// Per σψ: the converged rule's fusion error against the fusion run to convergence on the
+  /// same inputs (fusionError).
+  std::vector<FusionError> converged_rule_error;
   // When the model card has a σ calibration (ModelCard::sigma_scale), Table 2 again with it:
   bool have_calibration = false;
   Vec6 sigma_scale{1, 1, 1, 1, 1, 1};
@@ -114,19 +134,27 @@ void setDemoOutputs(ReplayOptions& options, const std::string& out_dir);
 /// (x, y, z, α, β, γ) = (shear_x, shear_y, pose_z, pose_Rx, pose_Ry, shear_Rz), mm and deg.
 Vec6 labelFromEulerDegrees(const Vec6& euler_mm_deg);
 
-struct Sample {
-  std::string image;  ///< file name in processed_images/
-  Vec6 euler{};       ///< (x, y, z, α, β, γ), mm and deg
-  Vec6 xi{};          ///< label ξ, mm and rad
-};
 /// Reads <split_dir>/targets.csv (file order). Throws std::runtime_error naming the file/line.
 std::vector<Sample> readTargets(const std::string& csv_path);
+
+/// The filter's process noise of the Table 2 experiment: Σφ = Σψ = σψ² 1 (eq. 24,
+/// eqn:se3_filter_exp_state_trans_cov), σψ in mm for ρ and in degrees for φ (radians returned).
+SE3d::Jacobian replayProcessNoise(double sigma_psi);
+/// The experiment's motions: T_k = exp(ψ_k^) X_k X_{k−1}⁻¹ (eq. 23, eqn:se3_filter_exp_state_trans_model)
+/// with X_k = exp(ξ_k^) the samples' labels and ψ_k ~ N(0, Σψ) drawn from `seed` in order of k;
+/// T_0 (no motion before the first image) is the identity.
+std::vector<SE3d> replayMotions(const std::vector<Sample>& samples, double sigma_psi, std::uint64_t seed);
 
 /// The Table 2 experiment on one sequence: states Xₖ = exp(ξₖ^) from the samples' labels,
 /// observations `obs`, Tₖ = exp(ψₖ^) Xₖ Xₖ₋₁⁻¹ with ψₖ ~ N(0, diag(σψ² [mm², mm², mm², rad², rad², rad²]))
 /// (σψ given in mm and deg), Σφ = Σψ. Returns the row (MAE vs the labels) and the filtered
 /// estimates (mm, deg) and precisions (1/mm, 1/deg) per step. `fusion`: the correction's
 /// iterations (default: the paper's fixed 5).
+/// The Table 2 experiment with `fusion`, each correction also made from the same belief with
+/// the fusion run to convergence: the largest difference of the filtered estimates (FusionError).
+FusionError fusionError(const std::vector<Sample>& samples, const std::vector<ConcentratedGaussian<SE3d>>& obs,
+                        double sigma_psi, std::uint64_t seed, const FusionOptions<double>& fusion);
+
 struct FilterRun {
   FilterRow row;
   std::vector<Vec6> mu;

@@ -221,6 +221,16 @@ TEST_CASE("replay: Table 2 filter experiment on a synthetic sequence", "[replay]
     CHECK(rule.row.mean_iterations < 5.0);
     CHECK(rule.row.failures == 0);
     for (std::size_t j = 0; j < 6; ++j) CHECK(std::fabs(rule.row.mae[j] - paper->row.mae[j]) <= 1e-4);
+    // Its fusion error against the fusion run to convergence on the same inputs stays under its
+    // tolerance (0.001 σ); a single update's is larger, so the measure can tell them apart.
+    const FusionError e = fusionError(samples, obs, paper->row.sigma_psi, 1, lieservo::FusionOptions<double>::converged());
+    lieservo::FusionOptions<double> one;
+    one.max_iterations = 1;
+    const FusionError e1 = fusionError(samples, obs, paper->row.sigma_psi, 1, one);
+    INFO("fusion error: converged rule " << e.sigma << " sigma, one update " << e1.sigma << " sigma");
+    CHECK(e.sigma <= 1e-3);
+    CHECK(e1.sigma > e.sigma);
+    CHECK(e1.mm + e1.rad > e.mm + e.rad);
   }
 }
 
@@ -253,6 +263,8 @@ TEST_CASE("replay: end to end on real images with the tiny test models", "[repla
     for (std::size_t i = 0; i < 4; ++i) CHECK(std::fabs(r.filter_converged[i].mae[j] - r.filter[i].mae[j]) <= 1e-4);
   }
   for (const auto& row : r.filter_converged) CHECK(row.mean_iterations < 5.0);
+  REQUIRE(r.converged_rule_error.size() == 4);
+  for (const auto& e : r.converged_rule_error) CHECK(e.sigma <= 1e-3);
   CHECK(std::isfinite(r.gdn_nll_rad));
   CHECK(r.plots.size() == 6);
   for (const auto& p : r.plots) {
