@@ -55,7 +55,7 @@ struct Sample {
 };
 
 /// How far a filter's corrections stop from the fusion run to convergence (an update under
-/// 1e-12 σ, at most 50) on the same belief and observation: the largest over the corrections.
+/// 1e-12 σ, at most 50) from the same belief and observation: the largest over the corrections.
 struct FusionError {
   double mm = 0.0;     ///< translation error ‖Δρ‖, mm
   double rad = 0.0;    ///< rotation error ‖Δφ‖, rad
@@ -90,7 +90,7 @@ struct ReplayResults {
   /// 5 iterations: how many updates a correction takes on real observations.
   std::vector<FilterRow> filter_converged;
   /// Per σψ: the converged rule's fusion error against the fusion run to convergence on the
-  /// same inputs (fusionError).
+  /// same inputs (FilterRun::fusion_error).
   std::vector<FusionError> converged_rule_error;
   // When the model card has a σ calibration (ModelCard::sigma_scale), Table 2 again with it:
   bool have_calibration = false;
@@ -149,20 +149,19 @@ std::vector<SE3d> replayMotions(const std::vector<Sample>& samples, double sigma
 /// observations `obs`, Tₖ = exp(ψₖ^) Xₖ Xₖ₋₁⁻¹ with ψₖ ~ N(0, diag(σψ² [mm², mm², mm², rad², rad², rad²]))
 /// (σψ given in mm and deg), Σφ = Σψ. Returns the row (MAE vs the labels) and the filtered
 /// estimates (mm, deg) and precisions (1/mm, 1/deg) per step. `fusion`: the correction's
-/// iterations (default: the paper's fixed 5).
-/// The Table 2 experiment with `fusion`, each correction also made from the same belief with
-/// the fusion run to convergence: the largest difference of the filtered estimates (FusionError).
-FusionError fusionError(const std::vector<Sample>& samples, const std::vector<ConcentratedGaussian<SE3d>>& obs,
-                        double sigma_psi, std::uint64_t seed, const FusionOptions<double>& fusion);
-
+/// iterations (default: the paper's fixed 5). `measure_fusion_error`: each correction is also
+/// made from the same belief with the fusion run to convergence, and `fusion_error` says how far
+/// the filtered estimates were from it.
 struct FilterRun {
   FilterRow row;
   std::vector<Vec6> mu;
   std::vector<Vec6> precision;
   std::vector<std::string> notes;
+  FusionError fusion_error;  ///< with measure_fusion_error; zero otherwise
 };
 FilterRun replayFilter(const std::vector<Sample>& samples, const std::vector<ConcentratedGaussian<SE3d>>& obs,
-                       double sigma_psi, std::uint64_t seed, const FusionOptions<double>& fusion = {});
+                       double sigma_psi, std::uint64_t seed, const FusionOptions<double>& fusion = {},
+                       bool measure_fusion_error = false);
 
 /// mm, rad -> mm, deg (components 4-6).
 Vec6 toReportUnits(const SE3d::Tangent& xi);

@@ -95,9 +95,9 @@ Status ConcentratedGaussian<G>::validate() const noexcept {
 }
 
 namespace detail {
-/// The two products of eq. 41 (eqn:se3_rv_probabilistic_transform_2) written into `out` (which must not alias `x`), neither
-/// normalised nor symmetrised: transformUnchecked symmetrises, the filter's prediction
-/// normalises and factorises.
+/// The two products of eq. 41 (eqn:se3_rv_probabilistic_transform_2) written into `out`,
+/// which must not alias `x`; neither normalised nor symmetrised: transformUnchecked
+/// symmetrises, the filter's prediction normalises and factorises.
 template <class G>
 void transformProducts(const ConcentratedGaussian<G>& x, const G& T_bar, const typename G::Jacobian& Sigma_phi,
                        ConcentratedGaussian<G>& out) noexcept {
