@@ -43,6 +43,7 @@
 #include <Eigen/LU>
 
 #include <lieservo/status.hpp>
+#include <lieservo/detail/flatten.hpp>
 #include <lieservo/units.hpp>
 #include <lieservo/estimation/concentrated_gaussian.hpp>
 #include <lieservo/estimation/detail/linalg.hpp>
@@ -410,7 +411,7 @@ struct InitialResidual {
 /// second factor's InitialResidual, computed as this function would, so that its log is not
 /// taken twice. Status as fuse().
 template <class Policy, class G>
-Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
+LIESERVO_FLATTEN_GCC Status fuseFactored(const G* means, const typename G::Jacobian* L, int count,
                     const FusionOptions<typename G::Scalar>& options, FusionResult<G>& result,
                     const InitialResidual<G>* second = nullptr) noexcept {
   using Scalar = typename G::Scalar;

@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <lieservo/detail/flatten.hpp>
 #include <lieservo/groups/detail/generic.hpp>
 #include <lieservo/groups/lie_group_base.hpp>
 #include <lieservo/groups/so3.hpp>
@@ -68,13 +69,13 @@ class SE3 : public LieGroupBase<SE3<Scalar_>, Eigen::Matrix<Scalar_, 6, 1>, Eige
 
   // ---- exp / log --------------------------------------------------------------------------
   /// exp(ξ^) = [[exp(φ^), J(φ) ρ], [0ᵀ, 1]] (eq. 28, eqn:se3_hat_operator, Barfoot's closed form).
-  static SE3 exp(const Tangent& xi) {
+  LIESERVO_FLATTEN static SE3 exp(const Tangent& xi) {
     const Vector3 rho = xi.template head<3>(), phi = xi.template tail<3>();
     const detail::AngleTerms<Scalar> t(phi.squaredNorm());
     return SE3(SO3Type::expWith(phi, t), SO3Type::leftJacobianWith(phi, t) * rho);
   }
   /// log(X)^∨ = [J(φ)⁻¹ r; φ] with φ = log(C), θ ∈ [0, π] (sign rule at π as SO3::log).
-  Tangent log() const {
+  LIESERVO_FLATTEN Tangent log() const {
     detail::AngleTerms<Scalar> t(Scalar(0));
     const Vector3 phi = C_.logWithTerms(t);  // log and J⁻¹ share the trigonometric work
     Tangent xi;
@@ -220,14 +221,14 @@ class SE3 : public LieGroupBase<SE3<Scalar_>, Eigen::Matrix<Scalar_, 6, 1>, Eige
     return Jinv;
   }
   /// exp(ξ), and J(ξ) into J, sharing the trigonometric work.
-  static SE3 expAndLeftJacobian(const Tangent& xi, Jacobian& J) {
+  LIESERVO_FLATTEN static SE3 expAndLeftJacobian(const Tangent& xi, Jacobian& J) {
     const Vector3 rho = xi.template head<3>(), phi = xi.template tail<3>();
     const detail::AngleTerms<Scalar> t(phi.squaredNorm());
     J = leftJacobianWith(rho, phi, t);
     return SE3(SO3Type::expWith(phi, t), J.template topLeftCorner<3, 3>() * rho);
   }
   /// log(), and J(ξ)⁻¹ of the result into Jinv, sharing the trigonometric work.
-  Tangent logAndLeftJacobianInverse(Jacobian& Jinv) const {
+  LIESERVO_FLATTEN Tangent logAndLeftJacobianInverse(Jacobian& Jinv) const {
     detail::AngleTerms<Scalar> t(Scalar(0));
     const Vector3 phi = C_.logWithTerms(t);  // log and J⁻¹ share the trigonometric work
     const Matrix3 Ji = SO3Type::leftJacobianInverseWith(phi, t);
