@@ -278,9 +278,12 @@ FilterRun replayFilter(const std::vector<Sample>& samples, const std::vector<Con
         iterations += filter.diagnostics().iterations;
         ++corrections;
       }
-      Status r = reference ? reference->predict(T[k]) : Status::invalid_argument;
-      if (r == Status::ok) r = reference->correct(obs[k]);
-      if (s == Status::ok && r == Status::ok) {
+      Status r = Status::ok;
+      if (reference && s == Status::ok) {
+        r = reference->predict(T[k]);
+        if (r == Status::ok) r = reference->correct(obs[k]);
+      }
+      if (reference && s == Status::ok && r == Status::ok) {
         FusionError& worst = run.fusion_error;
         const SE3d::Tangent e = lminus(filter.filtered().mean, reference->filtered().mean);
         worst.mm = std::max(worst.mm, e.head<3>().norm());

@@ -230,6 +230,7 @@ TEST_CASE("replay: Table 2 filter experiment on a synthetic sequence", "[replay]
     INFO("fusion error: converged rule " << e.sigma << " sigma, one update " << e1.sigma << " sigma");
     CHECK(e.sigma <= 1e-3);
     CHECK(e1.sigma > e.sigma);
+    CHECK(e1.mm + e1.rad > e.mm + e.rad);
     CHECK(paper->fusion_error.sigma == 0.0);  // not measured unless asked
   }
 }

@@ -42,8 +42,8 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 
-#include <lieservo/status.hpp>
 #include <lieservo/detail/flatten.hpp>
+#include <lieservo/status.hpp>
 #include <lieservo/units.hpp>
 #include <lieservo/estimation/concentrated_gaussian.hpp>
 #include <lieservo/estimation/detail/linalg.hpp>
