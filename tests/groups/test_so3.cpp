@@ -172,6 +172,36 @@ TEMPLATE_TEST_CASE("SO3 log (and logWithTerms) of a matrix against a long-double
   CHECK(worst <= 4 * lst::epsOf<S>());
 }
 
+TEST_CASE("SO3 float log on both sides of its small-angle form's cutoff", "[core][so3]") {
+  // In float, log takes φ = (½ + |s|²/48) s below |s|² = Cutoffs<float>::HalfAsin (θ ≈ 0.0355
+  // rad) and the arctangent's series above (docs/math.md). Criteria (set before the run): 10⁵
+  // rotations within ±2 % of the cutoff angle, both forms taken at least 20 000 times, every
+  // log within 4 ulp of the long-double reference on the same matrix (as the test above), and
+  // logWithTerms giving the same φ.
+  namespace d = lieservo::detail;
+  using ld = long double;
+  lieservo::sampling::Rng rng(78);
+  const double cut = std::asin(std::sqrt(double(d::Cutoffs<float>::HalfAsin) / 4));
+  double worst = 0;
+  int below = 0, above = 0;
+  for (int i = 0; i < 100000; ++i) {
+    const double angle = cut * (1 + 0.02 * (2 * uniform(rng, 0.0, 1.0) - 1));
+    const SO3<float>::Matrix C = SO3<float>::exp(lst::tangentWithAngle<SO3<float>>(rng, angle, 0.0)).matrix();
+    const Eigen::Vector3f s(C(2, 1) - C(1, 2), C(0, 2) - C(2, 0), C(1, 0) - C(0, 1));
+    (s.squaredNorm() < d::Cutoffs<float>::HalfAsin ? below : above)++;
+    const Eigen::Matrix<ld, 3, 1> ref =
+        d::rotationVectorFromQuaternion(d::quaternionFromMatrix(Eigen::Matrix<ld, 3, 3>(C.cast<ld>())));
+    const Eigen::Vector3f got = SO3<float>::fromMatrixUnchecked(C).log();
+    worst = std::max(worst, static_cast<double>((got.cast<ld>() - ref).norm() / ref.norm()));
+    d::AngleTerms<float> t(0.0f);
+    REQUIRE(SO3<float>::fromMatrixUnchecked(C).logWithTerms(t) == got);
+  }
+  INFO("below the cutoff " << below << ", above " << above << "; worst " << worst / lst::epsOf<float>() << " ulp");
+  CHECK(below >= 20000);
+  CHECK(above >= 20000);
+  CHECK(worst <= 4 * lst::epsOf<float>());
+}
+
 TEMPLATE_TEST_CASE("SO3 exp against a long-double reference, on each of its three paths", "[core][so3]", float,
                    double) {
   // exp builds the rotation from three terms of the half-angle series below halfAngleShortMaxX,

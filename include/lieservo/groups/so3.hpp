@@ -94,7 +94,7 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
   /// trace for θ < 2π/3, Shepperd's quaternion and θ = 2 atan2(|v|, w) beyond. At θ = π exactly
   /// the axis sign follows quaternionFromMatrix's rule (largest-magnitude component positive).
   /// Accurate to a few ulp everywhere, including near π.
-  Tangent log() const { return detail::rotationVectorFromMatrix(C_); }
+  EIGEN_ALWAYS_INLINE Tangent log() const { return detail::rotationVectorFromMatrix(C_); }
   /// log(C)^∨ and the AngleTerms of θ = |φ| from the same work (for J(φ)⁻¹ and Q): no sin/cos.
   Tangent logWithTerms(detail::AngleTerms<Scalar>& terms) const {
     return detail::rotationVectorFromMatrix(C_, &terms);

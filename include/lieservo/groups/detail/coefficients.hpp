@@ -68,6 +68,11 @@ inline constexpr SeriesTable<3> kSeriesH{{1.0L, -1.0L / 12, -1.0L / 720, -1.0L /
 /// cancellation, the series only avoids 0/0 at the identity).
 inline constexpr SeriesTable<3> kSeriesAtan{{1.0L, -1.0L / 3, 1.0L / 5, -1.0L / 7}};
 
+/// θ/(2 sinθ) = ½ asin(y)/y at y = sinθ, in x = 4 sin²θ = |s|² for s = 2 sinθ·axis (the
+/// antisymmetric part of a rotation matrix): ½ + x/48 + 3x²/1280 + …  The SO(3) log's form near
+/// the identity without a division or an arctangent (detail::rotationVectorFromMatrix).
+inline constexpr SeriesTable<2> kSeriesHalfAsin{{1.0L / 2, 1.0L / 48, 3.0L / 1280}};
+
 // ---- cutoffs, computed once per real type --------------------------------------------------
 
 template <class Scalar, std::size_t K>
@@ -87,6 +92,7 @@ struct Cutoffs {
   static constexpr Real F = cutoffOf<Scalar>(kSeriesF);
   static constexpr Real H = cutoffOf<Scalar>(kSeriesH);
   static constexpr Real Atan = cutoffOf<Scalar>(kSeriesAtan);
+  static constexpr Real HalfAsin = cutoffOf<Scalar>(kSeriesHalfAsin);
   /// Trigonometric terms are needed as soon as any coefficient leaves its series.
   static constexpr Real trig = std::min({A, B, C, D, E, F, H});
   /// Backwards-compatible accessor (the values are static constants).

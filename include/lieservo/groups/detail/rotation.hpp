@@ -295,6 +295,22 @@ EIGEN_ALWAYS_INLINE Eigen::Matrix<Scalar, 3, 1> rotationVectorFromMatrix(const E
   if (t > Scalar(0)) {
     const Eigen::Matrix<Scalar, 3, 1> s(C(2, 1) - C(1, 2), C(0, 2) - C(2, 0), C(1, 0) - C(0, 1));
     const Scalar c = t - Scalar(Real(1));
+    // Near the identity θ/|s| is a two-term series in |s|² (kSeriesHalfAsin): no division and
+    // no arctangent. Only where its cutoff covers the small angles that occur (θ up to 0.01
+    // rad and beyond: float, θ < 0.035 rad); in double it would stop at θ ≈ 2.3e-4 and split a
+    // set of small angles between two branches, so double keeps the arctangent's series.
+    if constexpr (Real(Cutoffs<Scalar>::HalfAsin) >= Real(4e-4)) {
+      const Scalar n2 = s.squaredNorm();
+      if (n2 < Scalar(Cutoffs<Scalar>::HalfAsin)) {
+        const Scalar factor = hornerEval(kSeriesHalfAsin, n2);
+        if (terms) {
+          using std::sqrt;
+          const Scalar n = sqrt(n2), half(Real(0.5));
+          *terms = AngleTerms<Scalar>::fromSinCos(factor * n, half * n, half * c);
+        }
+        return factor * s;
+      }
+    }
     if (!terms) return AngleFromSinCos<Scalar, false>(s.squaredNorm(), c).factor * s;
     const AngleFromSinCos<Scalar> a(s.squaredNorm(), c);
     const Scalar half(Real(0.5));
