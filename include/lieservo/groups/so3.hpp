@@ -93,6 +93,7 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
   /// log(C)^∨ with θ = |φ| ∈ [0, π]: θ = atan2(sinθ, cosθ) from the antisymmetric part and the
   /// trace for θ < 2π/3, Shepperd's quaternion and θ = 2 atan2(|v|, w) beyond. At θ = π exactly
   /// the axis sign follows quaternionFromMatrix's rule (largest-magnitude component positive).
+  /// In float near the identity (θ < 0.035 rad) a division-free series instead (docs/math.md).
   /// Accurate to a few ulp everywhere, including near π.
   EIGEN_ALWAYS_INLINE Tangent log() const { return detail::rotationVectorFromMatrix(C_); }
   /// log(C)^∨ and the AngleTerms of θ = |φ| from the same work (for J(φ)⁻¹ and Q): no sin/cos.
