@@ -1,7 +1,8 @@
 #!/bin/sh
 # programs.bad_input: the command-line programs refuse bad usage and set-up with exit status 2
 # and a message naming the option or file (lieservo_cli/cli.hpp).
-# Usage: run_programs_bad_input.sh LIESERVO_DEMO LIESERVO_REPLAY DATA_DIR MODELS_DIR WORK_DIR
+# Usage: run_programs_bad_input.sh LIESERVO_DEMO LIESERVO_REPLAY DATA_DIR MODELS_DIR WORK_DIR [START_MAP]
+# (START_MAP: lieservo_push_start_map, where the build has it.)
 # The set-up cases that need the TacTip data set (an unreadable image, a corrupted model) are
 # skipped, with a message, when it is absent; the rest always run.
 set -u
@@ -10,6 +11,7 @@ replay=$2
 data=$3
 models=$4
 work=$5
+map=${6:-}
 rm -rf "$work"
 mkdir -p "$work"
 fails=0
@@ -40,6 +42,17 @@ expect 2 "--sigmas" -- "$replay" --sigmas 1e300
 expect 2 "--quick" -- "$replay" --quick -5
 expect 2 "--seed" -- "$replay" --seed abc
 expect 2 "$work/none/val/targets.csv" -- "$replay" --data "$work/none" --quick 5
+if [ -n "$map" ]; then
+  expect 2 "--max-offset" -- "$map" --max-offset -1
+  expect 2 "--max-yaw" -- "$map" --max-yaw nan
+  expect 2 "--offset-step" -- "$map" --offset-step 0
+  expect 2 "whole numbers" -- "$map" --max-offset 3 --offset-step 2
+  expect 2 "--seed" -- "$map" --seed abc
+  expect 2 "$work/none.json" -- "$map" --model-card "$work/none.json"
+  expect 2 "$work/none/map.csv" -- "$map" --out "$work/none/map.csv" --observations gaussian
+  expect 2 "--bogus" -- "$map" --bogus
+  expect 0 "Exit status" -- "$map" --help
+fi
 
 if [ -f "$data/val/targets.csv" ] && [ -f "$data/train/targets.csv" ] && [ -f "$models/train_val/gdn.onnx" ]; then
   # Every image of the data set replaced by an empty file: the first observation fails.
@@ -49,6 +62,7 @@ if [ -f "$data/val/targets.csv" ] && [ -f "$data/train/targets.csv" ] && [ -f "$
     (cd "$data/$split/processed_images" && for f in *.png; do : >"$work/broken/$split/processed_images/$f"; done)
   done
   expect 2 "$work/broken/" -- "$demo" --data "$work/broken" --observations real --quick --trials 1 --no-files
+  [ -z "$map" ] || expect 2 "$work/broken/" -- "$map" --data "$work/broken" --observations real --max-offset 0 --max-yaw 0
   # The deployed GDN with its first 4 KB zeroed, under its own card: refused by its SHA-256.
   mkdir -p "$work/model"
   cp "$models/train_val/model_card.json" "$models/train_val/held_out.csv" "$models/train_val/gdn.onnx" "$work/model/"

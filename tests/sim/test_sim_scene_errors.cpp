@@ -1,4 +1,6 @@
 // Bad scene configuration → lieservo::sim::SceneError at set-up, with a clear message.
+#include <limits>
+
 #include <catch2/catch.hpp>
 
 #include "lieservo_sim/contact_model.hpp"
@@ -50,4 +52,18 @@ TEST_CASE("scene errors: pushing set-up", "[sim][errors]") {
   s.target = Vec2(0, 375);
   CHECK_NOTHROW(s.validate());
   CHECK_THROWS_WITH(runPushingCase(s, TaskOptions{}, 0), Contains("trials"));
+  // A fixed start placement or friction must be one a person could set up; NaN means drawn.
+  TaskOptions o;
+  for (const double bad : {60.0, -51.0, std::numeric_limits<double>::infinity()}) {
+    o.start_offset = bad;
+    CHECK_THROWS_WITH(runPushTrial(s, o, 1), Contains("start_offset"));
+  }
+  o = TaskOptions{};
+  o.start_yaw = deg(50);
+  CHECK_THROWS_WITH(runPushTrial(s, o, 1), Contains("start_yaw"));
+  o = TaskOptions{};
+  for (const double bad : {0.0, -1.0, 3.5, std::numeric_limits<double>::infinity()}) {
+    o.support_friction_scale = bad;
+    CHECK_THROWS_WITH(runPushTrial(s, o, 1), Contains("support_friction_scale"));
+  }
 }

@@ -2,6 +2,7 @@
 // the bounds of docs/simulation.md ("Success criteria").  Duration scales with
 // LIESERVO_SIM_TEST_SCALE (default 1, or 0.3 in Debug/sanitizer builds: see CMakeLists.txt).
 // Below 0.5 the pushing tests run one push each (to the paper's target, as in Release).
+#include <cmath>
 #include <cstdlib>
 
 #include <catch2/catch.hpp>
@@ -75,6 +76,37 @@ TEST_CASE("task (c): single-arm pushing reaches the target", "[sim][task]") {
   CHECK(tc.terminated);
   CHECK(tc.contact_kept);
   CHECK(tc.target_error < Bounds::pushing_error_max);
+}
+
+TEST_CASE("task (c): a fixed start placement is where the object starts and leaves the other draws as they were",
+          "[sim][task]") {
+  PushingSetup s;
+  s.object = shortObjects()[2];  // red square
+  s.surface = SupportSpec::foam();
+  s.timeout = 0.2;  // the placement only: four control periods
+  TaskOptions o;
+  o.randomise = true;  // so that μ_c and k_gel are drawn after the placement
+  const PushTrial drawn = runPushTrial(s, o, 16001);
+  // The draw: sd 2 mm and 2°, clipped at 2 sd.
+  CHECK(std::abs(drawn.start_offset) <= 4.0);
+  CHECK(std::abs(drawn.start_yaw) <= deg(4.0) + 1e-12);
+  o.start_offset = 3.0;
+  o.start_yaw = deg(-4.0);
+  const PushTrial fixed = runPushTrial(s, o, 16001);
+  CHECK(fixed.start_offset == 3.0);
+  CHECK(fixed.start_yaw == deg(-4.0));
+  // Where the object is after the first 50 ms of the push: y and yaw as placed.
+  REQUIRE(!fixed.object_path.empty());
+  CHECK(fixed.object_path.front().y() == Approx(s.start.y() + 3.0).margin(0.2));
+  CHECK(fixed.object_path.front().z() == Approx(deg(-4.0)).margin(deg(0.2)));
+  CHECK(fixed.skin_friction == drawn.skin_friction);
+  CHECK(fixed.gel_stiffness == drawn.gel_stiffness);
+  CHECK(fixed.support_friction == drawn.support_friction);
+  o.support_friction_scale = 1.0;
+  CHECK(runPushTrial(s, o, 16001).support_friction == s.surface.friction);
+  // A round object is never turned.
+  s.object = shortObjects()[1];
+  CHECK(runPushTrial(s, o, 16001).start_yaw == 0.0);
 }
 
 namespace {

@@ -38,6 +38,15 @@ void TaskOptions::validate() const {
   arm.validate();
   contact.validate();
   ranges.validate();
+  // NaN: drawn per trial; anything else must be a placement a person could set up.
+  auto fixedIn = [](double v, double bound, const char* name) {
+    if (!std::isnan(v) && !(std::abs(v) <= bound))
+      throw SceneError(std::string("TaskOptions.") + name + " must be NaN (drawn) or within ±" + std::to_string(bound));
+  };
+  fixedIn(start_offset, 50, "start_offset (mm)");
+  fixedIn(start_yaw, kPi / 4, "start_yaw (rad)");
+  if (!std::isnan(support_friction_scale) && !(support_friction_scale > 0 && support_friction_scale <= 3))
+    throw SceneError("TaskOptions.support_friction_scale must be NaN (drawn) or in (0, 3]");
 }
 
 void Stat::add(double v) {

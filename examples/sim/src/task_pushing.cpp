@@ -69,7 +69,8 @@ PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& options, st
   mujoco::SceneSpec scene;
   scene.timestep = h;
   scene.support = setup.surface;
-  scene.support.friction *= opt.randomise ? draw(opt.ranges.support_friction_scale) : draw({0.9, 1.1});
+  const double friction_scale = opt.randomise ? draw(opt.ranges.support_friction_scale) : draw({0.9, 1.1});
+  scene.support.friction *= std::isnan(opt.support_friction_scale) ? friction_scale : opt.support_friction_scale;
   if (opt.randomise) {
     opt.contact.skin_friction = draw(opt.ranges.skin_friction);
     opt.contact.gel_stiffness = draw(opt.ranges.gel_stiffness);
@@ -82,11 +83,18 @@ PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& options, st
   ObjectSpec obj = setup.object;
   obj.friction = opt.contact.skin_friction;
   obj.contact_height = setup.sensor_height;
-  const double jitter_y = 2.0 * std::clamp(lieservo::sampling::standardNormal(rng), -2.0, 2.0);
-  obj.yaw = obj.shape == "circle" ? 0.0 : deg(2.0) * std::clamp(lieservo::sampling::standardNormal(rng), -2.0, 2.0);
+  // Placed by hand in front of the leader: the offset and yaw drawn (normal, sd 2 mm and 2°,
+  // clipped at 2 sd; a round object is not turned), or fixed by TaskOptions. The draws are
+  // made either way, so that a fixed placement leaves the rest of the trial's draws as they were.
+  const double drawn_offset = 2.0 * std::clamp(lieservo::sampling::standardNormal(rng), -2.0, 2.0);
+  const double drawn_yaw =
+      obj.shape == "circle" ? 0.0 : deg(2.0) * std::clamp(lieservo::sampling::standardNormal(rng), -2.0, 2.0);
+  tr.start_offset = std::isnan(opt.start_offset) ? drawn_offset : opt.start_offset;
+  tr.start_yaw = obj.shape == "circle" ? 0.0 : std::isnan(opt.start_yaw) ? drawn_yaw : opt.start_yaw;
+  obj.yaw = tr.start_yaw;
   const double a = mujoco::halfExtentX(obj);
   obj.x = setup.start.x() + R - setup.initial_depth + a;
-  obj.y = setup.start.y() + jitter_y;
+  obj.y = setup.start.y() + tr.start_offset;
   scene.objects = {obj};
   const double H = setup.sensor_height;
   // The paper's right-angle mount (Section 5.7.2, sec:dual_arm_tall_object_pushing): z_s along
@@ -298,7 +306,13 @@ PushingCase judgeCase(const PushingSetup& setup, std::vector<PushTrial> trials, 
   char buf[240];
   for (std::size_t i = 0; i < pc.trials.size(); ++i) {
     const PushTrial& t = pc.trials[i];
-    auto fail = [&](const std::string& why) { pc.failures.push_back(tag + " trial " + std::to_string(i + 1) + ": " + why); };
+    // Each miss names the trial's start placement: the single-arm miss follows it
+    // (docs/simulation.md, "Margins").
+    char start[80];
+    std::snprintf(start, sizeof start, " (start: offset %+.1f mm, yaw %+.1f deg)", t.start_offset, toDeg(t.start_yaw));
+    auto fail = [&](const std::string& why) {
+      pc.failures.push_back(tag + " trial " + std::to_string(i + 1) + ": " + why + start);
+    };
     if (t.toppled) {
       std::snprintf(buf, sizeof buf, "toppled (tilt %.0f deg > %.0f deg)", t.max_tilt, Bounds::topple_tilt);
       fail(buf);

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -77,6 +78,14 @@ struct TaskOptions {
   /// instead of using the defaults (μ_s still ±10 % around the support's).
   bool randomise = false;
   PhysicalRanges ranges{};
+  /// Pushing: the object's start placement, the same for every trial instead of drawn (NaN:
+  /// drawn, runPushTrial): its sideways offset along y (mm, |·| ≤ 50) and its yaw (rad,
+  /// |·| ≤ π/4; round objects are never turned). lieservo_push_start_map sets them.
+  double start_offset = std::numeric_limits<double>::quiet_NaN();
+  double start_yaw = std::numeric_limits<double>::quiet_NaN();
+  /// Pushing: the factor on the support's μ_s, the same for every trial instead of drawn
+  /// (NaN: drawn, ±10 % or `ranges` with `randomise`); in (0, 3].
+  double support_friction_scale = std::numeric_limits<double>::quiet_NaN();
   void validate() const;        ///< throws SceneError
 };
 
@@ -181,6 +190,8 @@ struct PushTrial {
   double leader_vertical_force = 0, follower_vertical_force = 0;
   /// The physical parameters this trial ran with (drawn with TaskOptions::randomise).
   double support_friction = 0, skin_friction = 0, gel_stiffness = 0;
+  /// The object's start placement: sideways offset (mm) and yaw (rad), drawn or fixed.
+  double start_offset = 0, start_yaw = 0;
   std::vector<Vec3> sensor_path, follower_path;  ///< (x, y, z) per control step
   std::vector<Vec3> object_path;                 ///< (x, y, θ) per control step
   std::vector<double> bearing, alignment_velocity;  ///< θ_s' (deg), alignment u_y (mm/s) per step
@@ -205,7 +216,8 @@ struct PushingCase {
   /// `<figure_stem>/<object name>.png` (render.hpp); empty when the runner wrote no files.
   std::string figure_stem;
 };
-/// One trial (seeded: object placement jitter with sd 2 mm / 2° clipped at 2 sd, support friction ±10 %, GDN noise).
+/// One trial (seeded: object placement jitter with sd 2 mm / 2° clipped at 2 sd, support
+/// friction ±10 %, GDN noise; TaskOptions can fix the placement and the friction).
 PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& opt, std::uint64_t trial_seed);
 /// `trials` seeded trials of one set-up (the paper: 5), judged against Bounds unless `judged`
 /// is false.

@@ -1,0 +1,266 @@
+// lieservo_push_start_map — where single-arm pushing ends, as a map over the object's start
+// placement (docs/simulation.md, "Margins").
+//
+//   lieservo_push_start_map [--max-offset MM] [--offset-step MM] [--max-yaw DEG] [--yaw-step DEG]
+//                           [--seed N] [--observations auto|real|gaussian] [--data DIR]
+//                           [--model-card FILE] [--out FILE.csv]
+//
+// The demo places each pushed object by hand, as a person would: offset sideways and turned by
+// a seeded draw (normal, sd 2 mm and 2°, clipped at ±4 mm and ±4°; runPushTrial). Here the
+// placement is fixed instead, at every point of a grid over that box, with the support's μ_s
+// at its nominal value, and the eight single-arm cases of the demo (Tables 7–8, the paper's
+// controllers) are pushed once from each. The table says per case how far from the target each
+// start ends; the summary says which starts miss (> 10 mm, Bounds::pushing_error_max, or not
+// reached) in any case, and how likely the demo's draw is to land on them.
+//
+// Exit status (lieservo_cli/cli.hpp): 0 when the map was made, whatever it shows; 2 on bad
+// usage or set-up, with a message naming the option or file.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <new>
+#include <string>
+#include <vector>
+
+#include <lieservo_cli/cli.hpp>
+
+#include "lieservo_sim/csv_log.hpp"
+#include "lieservo_sim/real_observation.hpp"
+#include "lieservo_sim/tasks.hpp"
+
+namespace {
+
+using namespace lieservo::sim;
+
+// The demo's placement draw (runPushTrial): each coordinate normal with this sd, clipped at
+// kClip sd.
+constexpr double kDrawSd = 2.0;  // mm and degrees
+constexpr double kClip = 2.0;
+
+// Points from −max to max in steps of `step` (max a whole number of steps).
+std::vector<double> gridAxis(double max, double step) {
+  std::vector<double> v;
+  const int n = int(std::lround(max / step));
+  for (int k = -n; k <= n; ++k) v.push_back(k * step);
+  return v;
+}
+
+// The probability that the demo's draw lands in grid point k's cell: the draw's normal over
+// [x − step/2, x + step/2], the end cells open to ±∞ (the clip puts the tails on the edges).
+double cellProbability(const std::vector<double>& axis, std::size_t k, double step) {
+  auto cdf = [](double x) { return 0.5 * std::erfc(-x / (kDrawSd * std::sqrt(2.0))); };
+  const double lo = k == 0 ? 0.0 : cdf(axis[k] - step / 2);
+  const double hi = k + 1 == axis.size() ? 1.0 : cdf(axis[k] + step / 2);
+  return hi - lo;
+}
+
+bool miss(const PushTrial& t) { return !t.terminated || t.target_error > Bounds::pushing_error_max; }
+
+// The push's initial lever arm: how far along the face the contact starts from the foot of the
+// perpendicular through the object's centre, d0 = offset − A sin(yaw) for a face A from the
+// centre. The model e = g |d0 − d*| fitted by least squares (g in closed form, A and d* on a
+// grid), over the starts that reached the target.
+struct LeverArmFit {
+  double A = 0, d_star = 0, gain = 0, rms = 0;
+};
+LeverArmFit fitLeverArm(const std::vector<double>& offsets, const std::vector<double>& yaws,
+                        const std::vector<std::vector<double>>& error) {
+  LeverArmFit best;
+  double best_ss = std::numeric_limits<double>::infinity();
+  int n = 0;
+  for (int ia = 0; ia <= 200; ++ia) {      // A = 0 … 100 mm in 0.5 mm
+    for (int id = 0; id <= 200; ++id) {    // d* = −5 … 5 mm in 0.05 mm
+      const double A = 0.5 * ia, d_star = -5 + 0.05 * id;
+      double xx = 0, xe = 0, ee = 0;
+      n = 0;
+      for (std::size_t i = 0; i < yaws.size(); ++i)
+        for (std::size_t j = 0; j < offsets.size(); ++j) {
+          const double e = error[i][j];
+          if (std::isnan(e)) continue;
+          const double x = std::abs(offsets[j] - A * std::sin(deg(yaws[i])) - d_star);
+          xx += x * x, xe += x * e, ee += e * e, ++n;
+        }
+      if (xx <= 0) continue;
+      const double ss = ee - xe * xe / xx;  // residual of the best gain xe / xx
+      if (ss < best_ss) best_ss = ss, best = {A, d_star, xe / xx, 0};
+    }
+  }
+  best.rms = n ? std::sqrt(std::max(0.0, best_ss) / n) : 0;
+  return best;
+}
+
+}  // namespace
+
+static int run(int argc, char** argv) {
+  namespace cli = lieservo::cli;
+  double max_offset = 4, offset_step = 1, max_yaw = 4, yaw_step = 1;
+  std::string observations = "auto";
+  RealObservationOptions ro;
+  ro.data_dir = LIESERVO_DEFAULT_DATA_DIR;
+  ro.model_card = LIESERVO_SIM_MODEL_CARD;
+  std::string out_csv;
+  TaskOptions opt;
+  CLI::App app("lieservo_push_start_map: single-arm pushing from fixed start placements (offset x yaw), the\n"
+               "paper's controllers, one push per case and point; prints each case's target error over the\n"
+               "grid. Exit status: 0 the map was made, 2 bad usage or set-up.",
+               "lieservo_push_start_map");
+  app.add_option("--max-offset", max_offset, "the grid's sideways offsets span +-this (mm)")
+      ->capture_default_str()
+      ->check(cli::finiteIn(0, 20));
+  app.add_option("--offset-step", offset_step, "between offsets (mm)")
+      ->capture_default_str()
+      ->check(cli::finiteIn(0.1, 20));
+  app.add_option("--max-yaw", max_yaw, "the grid's yaws span +-this (deg)")
+      ->capture_default_str()
+      ->check(cli::finiteIn(0, 20));
+  app.add_option("--yaw-step", yaw_step, "between yaws (deg)")->capture_default_str()->check(cli::finiteIn(0.1, 20));
+  app.add_option("--seed", opt.seed, "seed of the observations' noise (the gaussian mode)")
+      ->capture_default_str()
+      ->check(cli::integerIn<std::uint64_t>(0, 1000000000000000));
+  app.add_option("--observations", observations,
+                 "'real': the card's GDN on the nearest labelled TacTip image; 'gaussian': the calibrated "
+                 "Gaussian model; 'auto': real when the data set is there")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "real", "gaussian"}));
+  app.add_option("--data", ro.data_dir, "the TacTip data set for 'real'")->capture_default_str();
+  app.add_option("--model-card", ro.model_card, "the GDN's model card")->capture_default_str();
+  app.add_option("--out", out_csv,
+                 "also write the target errors to this CSV file (a row per start, a column per case)");
+  if (const int status = cli::parse(app, argc, argv); status >= 0) return status;
+  if (std::abs(max_offset / offset_step - std::round(max_offset / offset_step)) > 1e-9 ||
+      std::abs(max_yaw / yaw_step - std::round(max_yaw / yaw_step)) > 1e-9) {
+    std::fprintf(stderr, "--max-offset and --max-yaw must be whole numbers of their steps\n");
+    return cli::kUsageOrSetup;
+  }
+  if (!GdnCalibration::fromModelCard(ro.model_card, opt.calibration)) {
+    std::fprintf(stderr, "--model-card %s: cannot read models.gdn's measured MAE from it\n", ro.model_card.c_str());
+    return cli::kUsageOrSetup;
+  }
+  bool data_present = false;
+  for (const std::string& split : ro.splits)
+    data_present = data_present || std::filesystem::exists(ro.data_dir + "/" + split + "/targets.csv");
+  if (observations == "real" || (observations == "auto" && data_present)) {
+    try {
+      opt.observations = std::make_shared<RealGdnObservations>(ro);
+    } catch (const SceneError& e) {
+      std::fprintf(stderr, "set-up error: %s\n", e.what());
+      return cli::kUsageOrSetup;
+    }
+  }
+  if (!out_csv.empty() && !std::ofstream(out_csv)) {  // before the minutes of pushing
+    std::fprintf(stderr, "--out %s: cannot write it\n", out_csv.c_str());
+    return cli::kUsageOrSetup;
+  }
+
+  const std::vector<double> offsets = gridAxis(max_offset, offset_step), yaws = gridAxis(max_yaw, yaw_step);
+  opt.support_friction_scale = 1.0;
+  std::printf("single-arm pushing from fixed start placements, %zu offsets x %zu yaws, mu_s nominal, "
+              "observations: %s\n",
+              offsets.size(), yaws.size(), opt.observations ? "real" : "gaussian");
+  std::vector<std::string> names, columns;
+  std::vector<ObjectSpec> objects;
+  std::vector<std::vector<std::vector<double>>> error;  // [case][yaw][offset]
+  std::vector<std::vector<bool>> any_miss(yaws.size(), std::vector<bool>(offsets.size(), false));
+  for (std::size_t i = 0; i < yaws.size(); ++i) {
+    for (std::size_t j = 0; j < offsets.size(); ++j) {
+      opt.start_offset = offsets[j];
+      opt.start_yaw = deg(yaws[i]);
+      const PushingResult r = runSingleArmPushing(opt, 1);
+      if (const auto* real = dynamic_cast<const RealGdnObservations*>(opt.observations.get());
+          real && !real->lastError().empty()) {
+        std::fprintf(stderr, "set-up error: real observations: %s\n", real->lastError().c_str());
+        return cli::kUsageOrSetup;
+      }
+      if (error.empty()) {
+        for (const PushingCase& c : r.cases) {
+          names.push_back(displayName(c.setup.object) + ", " + c.setup.surface.name);
+          columns.push_back(c.setup.object.name + "_" + c.setup.surface.name + "_error_mm");
+          objects.push_back(c.setup.object);
+        }
+        error.assign(r.cases.size(),
+                     std::vector<std::vector<double>>(yaws.size(), std::vector<double>(offsets.size())));
+      }
+      for (std::size_t c = 0; c < r.cases.size(); ++c) {
+        const PushTrial& t = r.cases[c].trials.front();
+        error[c][i][j] = t.terminated ? t.target_error : NAN;
+        any_miss[i][j] = any_miss[i][j] || miss(t);
+      }
+    }
+    std::printf("  yaw %+.1f deg done\n", yaws[i]);
+    std::fflush(stdout);
+  }
+
+  std::printf("\ntarget error (mm) per case; rows: yaw (deg), columns: sideways offset (mm); * a miss "
+              "(> %.0f mm), - not reached\n",
+              Bounds::pushing_error_max);
+  for (std::size_t c = 0; c < names.size(); ++c) {
+    std::printf("\n%s\n%10s", names[c].c_str(), "yaw\\off");
+    for (const double o : offsets) std::printf(" %6.1f ", o);
+    std::printf("\n");
+    for (std::size_t i = 0; i < yaws.size(); ++i) {
+      std::printf("%10.1f", yaws[i]);
+      for (std::size_t j = 0; j < offsets.size(); ++j) {
+        const double e = error[c][i][j];
+        if (std::isnan(e)) std::printf("      - ");
+        else std::printf(" %6.2f%s", e, e > Bounds::pushing_error_max ? "*" : " ");
+      }
+      std::printf("\n");
+    }
+  }
+  if (!out_csv.empty()) {
+    // One row per start, one column per case: its target error (mm), nan when not reached.
+    std::vector<std::string> header = {"offset_mm", "yaw_deg"};
+    header.insert(header.end(), columns.begin(), columns.end());
+    CsvWriter csv;
+    if (!csv.open(out_csv, header)) {
+      std::fprintf(stderr, "--out %s: cannot write it\n", out_csv.c_str());
+      return cli::kUsageOrSetup;
+    }
+    for (std::size_t i = 0; i < yaws.size(); ++i)
+      for (std::size_t j = 0; j < offsets.size(); ++j) {
+        std::vector<double> row = {offsets[j], yaws[i]};
+        for (std::size_t c = 0; c < names.size(); ++c) row.push_back(error[c][i][j]);
+        csv.row(row);
+      }
+  }
+  std::printf("\nthe miss against the push's initial lever arm d0 = offset - A sin(yaw) (the contact's distance "
+              "along the face\nfrom the perpendicular through the object's centre), fitted as g |d0 - d*|:\n");
+  for (std::size_t c = 0; c < names.size(); ++c) {
+    if (isRound(objects[c])) continue;  // never turned: yaw does not move the contact
+    const LeverArmFit f = fitLeverArm(offsets, yaws, error[c]);
+    std::printf("  %-24s A %5.1f mm (centre to face %5.1f mm), d* %+.2f mm, g %.2f, rms residual %.2f mm\n",
+                names[c].c_str(), f.A, mujoco::halfExtentX(objects[c]), f.d_star, f.gain, f.rms);
+  }
+  int misses = 0;
+  double p = 0;
+  std::printf("\nstarts that miss in at least one case:");
+  for (std::size_t i = 0; i < yaws.size(); ++i)
+    for (std::size_t j = 0; j < offsets.size(); ++j)
+      if (any_miss[i][j]) {
+        ++misses;
+        p += cellProbability(yaws, i, yaw_step) * cellProbability(offsets, j, offset_step);
+        std::printf(" (%+.1f mm, %+.1f deg)", offsets[j], yaws[i]);
+      }
+  std::printf("%s\n", misses ? "" : " none");
+  if (std::abs(max_offset - kClip * kDrawSd) < 1e-9 && std::abs(max_yaw - kClip * kDrawSd) < 1e-9) {
+    // The demo's trial i of a seed draws one placement for all eight cases.
+    std::printf("the demo's draw lands on them with probability %.2g per trial (each point standing for its "
+                "cell), %.2g per seed of 5 trials\n",
+                p, 1 - std::pow(1 - p, 5));
+  }
+  return 0;
+}
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "lieservo_push_start_map: out of memory\n");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "lieservo_push_start_map: %s\n", e.what());
+  }
+  return lieservo::cli::kUsageOrSetup;
+}
