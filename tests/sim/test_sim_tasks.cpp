@@ -78,14 +78,14 @@ TEST_CASE("task (c): single-arm pushing reaches the target", "[sim][task]") {
   CHECK(tc.target_error < Bounds::pushing_error_max);
 }
 
-TEST_CASE("task (c): a fixed start placement is where the object starts and leaves the other draws as they were",
+TEST_CASE("task (c): a fixed start placement or friction is what the trial runs with and leaves the other draws",
           "[sim][task]") {
   PushingSetup s;
   s.object = shortObjects()[2];  // red square
   s.surface = SupportSpec::foam();
   s.timeout = 0.2;  // the placement only: four control periods
   TaskOptions o;
-  o.randomise = true;  // so that μ_c and k_gel are drawn after the placement
+  o.randomise = true;  // μ_c and k_gel drawn too, after μ_s
   const PushTrial drawn = runPushTrial(s, o, 16001);
   // The draw: sd 2 mm and 2°, clipped at 2 sd.
   CHECK(std::abs(drawn.start_offset) <= 4.0);
@@ -103,7 +103,10 @@ TEST_CASE("task (c): a fixed start placement is where the object starts and leav
   CHECK(fixed.gel_stiffness == drawn.gel_stiffness);
   CHECK(fixed.support_friction == drawn.support_friction);
   o.support_friction_scale = 1.0;
-  CHECK(runPushTrial(s, o, 16001).support_friction == s.surface.friction);
+  const PushTrial nominal = runPushTrial(s, o, 16001);
+  CHECK(nominal.support_friction == s.surface.friction);
+  CHECK(nominal.skin_friction == drawn.skin_friction);
+  CHECK(nominal.gel_stiffness == drawn.gel_stiffness);
   // A round object is never turned.
   s.object = shortObjects()[1];
   CHECK(runPushTrial(s, o, 16001).start_yaw == 0.0);

@@ -69,6 +69,7 @@ PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& options, st
   mujoco::SceneSpec scene;
   scene.timestep = h;
   scene.support = setup.surface;
+  // Drawn even when TaskOptions fixes it, so that μ_c and k_gel draw as they would.
   const double friction_scale = opt.randomise ? draw(opt.ranges.support_friction_scale) : draw({0.9, 1.1});
   scene.support.friction *= std::isnan(opt.support_friction_scale) ? friction_scale : opt.support_friction_scale;
   if (opt.randomise) {
@@ -84,8 +85,7 @@ PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& options, st
   obj.friction = opt.contact.skin_friction;
   obj.contact_height = setup.sensor_height;
   // Placed by hand in front of the leader: the offset and yaw drawn (normal, sd 2 mm and 2°,
-  // clipped at 2 sd; a round object is not turned), or fixed by TaskOptions. The draws are
-  // made either way, so that a fixed placement leaves the rest of the trial's draws as they were.
+  // clipped at 2 sd; a round object is not turned), or fixed by TaskOptions.
   const double drawn_offset = 2.0 * std::clamp(lieservo::sampling::standardNormal(rng), -2.0, 2.0);
   const double drawn_yaw =
       obj.shape == "circle" ? 0.0 : deg(2.0) * std::clamp(lieservo::sampling::standardNormal(rng), -2.0, 2.0);
