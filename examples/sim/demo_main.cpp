@@ -332,10 +332,7 @@ static int run(int argc, char** argv) {
   RealObservationOptions ro;
   ro.data_dir = data_dir;
   ro.model_card = model_card;
-  bool data_present = false;
-  for (const std::string& split : ro.splits)
-    data_present = data_present || std::filesystem::exists(data_dir + "/" + split + "/targets.csv");
-  if (observations == "real" || (observations == "auto" && data_present)) {
+  if (observations == "real" || (observations == "auto" && ro.dataSetPresent())) {
     try {
       opt.observations = std::make_shared<RealGdnObservations>(ro);
     } catch (const SceneError& e) {

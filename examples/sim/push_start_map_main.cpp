@@ -17,7 +17,6 @@
 // usage or set-up, with a message naming the option or file.
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <memory>
@@ -139,10 +138,7 @@ static int run(int argc, char** argv) {
     std::fprintf(stderr, "--model-card %s: cannot read models.gdn's measured MAE from it\n", ro.model_card.c_str());
     return cli::kUsageOrSetup;
   }
-  bool data_present = false;
-  for (const std::string& split : ro.splits)
-    data_present = data_present || std::filesystem::exists(ro.data_dir + "/" + split + "/targets.csv");
-  if (observations == "real" || (observations == "auto" && data_present)) {
+  if (observations == "real" || (observations == "auto" && ro.dataSetPresent())) {
     try {
       opt.observations = std::make_shared<RealGdnObservations>(ro);
     } catch (const SceneError& e) {

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <exception>
+#include <filesystem>
 #include <mutex>
 #include <optional>
 
@@ -20,6 +21,14 @@ using LabelMatrix = Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>;
 using Tree = nanoflann::KDTreeEigenMatrixAdaptor<LabelMatrix, 6, nanoflann::metric_L2_Simple>;
 using dataset::fileExists;
 }  // namespace
+
+bool RealObservationOptions::dataSetPresent() const {
+  // There, readable or not: an unreadable data set is a set-up error, not a reason to fall back.
+  std::error_code ec;
+  for (const std::string& split : splits)
+    if (std::filesystem::exists(data_dir + "/" + split + "/targets.csv", ec)) return true;
+  return false;
+}
 
 struct RealGdnObservations::Impl {
   std::vector<Vec6> euler, xi;  // per image: label (mm, rad) and ξ_image

@@ -35,6 +35,8 @@ struct RealObservationOptions {
   std::string data_dir;    ///< the TacTip data: <data_dir>/<split>/targets.csv, processed_images/
   std::string model_card;  ///< model_card.json naming the GDN's ONNX file
   std::vector<std::string> splits{"train", "val"};  ///< only the shared train and val sets
+  /// Whether any split's targets.csv exists: the programs' `auto` mode then runs `real`.
+  bool dataSetPresent() const;
 };
 
 class RealGdnObservations final : public ObservationSource {
