@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <stdexcept>
 #include <vector>
 
 #include <lieservo/estimation.hpp>
@@ -92,7 +93,8 @@ struct FilterInputs {
       mu.push_back(m);
       sigma.push_back(s);
       lieservo::ConcentratedGaussian<G> o;
-      lieservo::fromTangentGaussian(m, s, o);
+      if (lieservo::fromTangentGaussian(m, s, o) != lieservo::Status::ok)
+        throw std::runtime_error("benchmark inputs: an observation Gaussian was refused");
       obs.push_back(o);
     }
   }
@@ -124,7 +126,8 @@ struct FilterSequence {
       Tangent m = (pose.inverse() * feature).log();
       for (int k = 0; k < G::DoF; ++k) m(k) += s(k) * typename G::Scalar(standardNormal(rng));
       lieservo::ConcentratedGaussian<G> o;
-      lieservo::fromTangentGaussian(m, s, o);
+      if (lieservo::fromTangentGaussian(m, s, o) != lieservo::Status::ok)
+        throw std::runtime_error("benchmark inputs: an observation Gaussian was refused");
       obs.push_back(o);
     }
   }

@@ -159,30 +159,31 @@ BENCHMARK_TEMPLATE(BM_PushingStep, double);
 BENCHMARK_TEMPLATE(BM_PushingStep, float);
 
 // ---- the whole estimate-and-control cycle -------------------------------------------------------
-// GDN output (μ, σ) → fromTangentGaussian → filter step → servo step on the filtered pose.
+// GDN output (μ, σ) → fromTangentGaussian → TactileLoop::step (the filter step, then the servo
+// step on the filtered pose, as the robot programs run them).
 template <class Scalar, class Policy>
 void BM_Cycle(benchmark::State& state) {
   using G = lieservo::SE3<Scalar>;
+  using Loop = lieservo::TactileLoop<lieservo::TactileServoController<G>, lieservo::DiscriminativeBayesFilter<G, Policy>>;
   const auto& in = FilterInputs<G>::get();
-  lieservo::DiscriminativeBayesFilter<G, Policy> filter;
-  filter.reset();
-  (void)filter.step(in.sensor[0], in.obs[0]);  // initialisation
-  lieservo::TactileServoController<G> servo(lieservo::objectTrackingPreset<Scalar>());
+  typename Loop::Options options;
+  options.controller = lieservo::objectTrackingPreset<Scalar>();
+  Loop loop(options);
   typename G::Tangent u;
   const Scalar dt = Scalar(0.05);
+  (void)loop.step(in.sensor[0], in.obs[0], dt, u);  // initialisation
   std::size_t i = 1;
   for (auto _ : state) {
     lieservo::ConcentratedGaussian<G> obs;
     auto s = lieservo::fromTangentGaussian(in.mu[i], in.sigma[i], obs);
-    if (s == lieservo::Status::ok) s = filter.step(in.sensor[i], obs);
-    if (s == lieservo::Status::ok) s = servo.step(filter.filtered().mean, dt, u);
+    if (s == lieservo::Status::ok) s = loop.step(in.sensor[i], obs, dt, u);
     benchmark::DoNotOptimize(s);
     benchmark::DoNotOptimize(u);
     i = (i + 1) & (kRing - 1);
     if (i == 0) {
       state.PauseTiming();
-      filter.reset();
-      (void)filter.step(in.sensor[0], in.obs[0]);  // initialisation
+      loop.reset();
+      (void)loop.step(in.sensor[0], in.obs[0], dt, u);  // initialisation
       i = 1;
       state.ResumeTiming();
     }

@@ -24,6 +24,7 @@
 #include <lieservo/lieservo.hpp>
 #include "lieservo_adapters/gdn_observation.hpp"
 #include "lieservo_adapters/tactile_frame.hpp"
+#include "bench_main.hpp"
 
 namespace {
 
@@ -151,9 +152,5 @@ int main(int argc, char** argv) {
   benchmark::AddCustomContext("frame_image", frame().tactile->image_source);
   benchmark::AddCustomContext("frame_model", "examples/gdn/models/train_val/model_card.json (the deployed GDN)");
   benchmark::AddCustomContext("frame_threads", "1 (cv::setNumThreads(1))");
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return lieservo::bench::runBenchmarks(argc, argv);
 }

@@ -32,6 +32,7 @@
 #ifdef LIESERVO_HAVE_MANIF
 #include <manif/SE3.h>
 #include <manif/SO3.h>
+#include "bench_main.hpp"
 #endif
 
 namespace {
@@ -306,9 +307,5 @@ int main(int argc, char** argv) {
   accuracyReport();
   registerAll<double>("d");
   registerAll<float>("f");
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return lieservo::bench::runBenchmarks(argc, argv);
 }

@@ -22,6 +22,7 @@
 
 #include "bench_common.hpp"
 #include "replay.hpp"
+#include "bench_main.hpp"
 
 namespace {
 
@@ -118,9 +119,5 @@ int main(int argc, char** argv) {
   }
   benchmark::AddCustomContext("replay_sequence", "val, " + std::to_string(sequence().observations.size()) +
                                                      " images, the GDN of examples/gdn/models (network sigma)");
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return lieservo::bench::runBenchmarks(argc, argv);
 }

@@ -367,7 +367,8 @@ int main(int argc, char** argv) {
                "(docs/performance.md). Exit status: 0 ok, 1 the closed form misses its reference, 2 bad "
                "usage or an unwritable file.",
                "lieservo_speed_error_report");
-  auto* csv_option = app.add_option("--csv", csv, "write the CSV to FILE (default: stdout)");
+  auto* csv_option =
+      app.add_option("--csv", csv, "write the CSV to FILE (default: stdout)")->check(lieservo::cli::nonEmptyPath());
   auto* quick_option = app.add_flag("--quick", quick, "few inputs and one repetition (the CTest smoke run)");
   auto* reps_option = app.add_option("--reps", reps, "timing repetitions (median reported)")
                           ->capture_default_str()

@@ -39,7 +39,8 @@ int main(int argc, char** argv) {
   bool quiet = false;
   CLI::App app("lieservo_collect: collect (or resume) a pose-and-shear training set (the paper's Algorithm 1).\n"
                "Running the same command again after an interruption resumes at the next sample. Exit status:\n"
-               "0 done, 1 a collection error (e.g. a resume with other parameters), 2 bad usage.",
+               "0 done; 2 bad usage or set-up: a malformed or out-of-range option, an output folder that cannot be\n"
+               "written, or a data set that does not match this command (other parameters, a missing image).",
                "lieservo_collect");
   app.add_option("--out", cfg.out_dir, "the data set's folder")->required();
   app.add_option("--samples", cfg.n_samples, "number of samples in the plan")
@@ -98,6 +99,6 @@ int main(int argc, char** argv) {
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "lieservo_collect: " << e.what() << "\n";
-    return 1;
+    return cli::kUsageOrSetup;
   }
 }

@@ -17,11 +17,10 @@
 // `OpenCvGdnFrontEnd` to use a different sensor or model.
 #include "franka_adapter.hpp"
 #include "franka_example_options.hpp"
+#include "tactile_run.hpp"
 
 #include <lieservo/control/presets.hpp>
-#include <lieservo/control/pushing_controller.hpp>
-#include <lieservo/control/tactile_servo_controller.hpp>
-#include <lieservo/estimation/bayes_filter.hpp>
+#include <lieservo/control/tactile_loop.hpp>
 #include <lieservo/units.hpp>
 
 #include <lieservo_adapters/camera.hpp>
@@ -44,8 +43,9 @@
 
 namespace {
 
-using lieservo::ConcentratedGaussian;
 using lieservo::Status;
+using lieservo::franka_example::TactileFrontEnd;
+using lieservo::franka_example::TactileSample;
 using lieservo::franka_adapter::FrankaAdapter;
 using lieservo::franka_adapter::FrankaAdapterOptions;
 using SE3d = lieservo::SE3<double>;
@@ -63,23 +63,7 @@ SE3d poseFromMmDeg(const std::vector<double>& v) {
   return SE3d::fromEulerXYZ6Degrees(x);
 }
 
-// ---- The tactile seam -----------------------------------------------------------------
-/// One tactile sample: the observation Gaussian of X_sf (feature in sensor), a contact
-/// decision and the capture time.
-struct TactileSample {
-  ConcentratedGaussian<SE3d> observation;
-  bool in_contact = false;
-  double contact_statistic = 0;
-  std::chrono::steady_clock::time_point stamp;
-};
-
-class TactileFrontEnd {
- public:
-  virtual ~TactileFrontEnd() = default;
-  /// Blocks for the next frame. false: the sensor is gone (camera lost / model failure).
-  virtual bool next(TactileSample& out, std::string& error) = 0;
-};
-
+// ---- The tactile seam (tactile_run.hpp): the OpenCV + ONNX GDN front end ---------------
 /// TacTip camera → pre-processing → ONNX GDN (examples/adapters) → SE(3) observation; contact
 /// by the mean absolute difference of the processed image from a no-contact reference frame
 /// (with hysteresis: on above T, off below T/2).
@@ -142,97 +126,37 @@ class OpenCvGdnFrontEnd final : public TactileFrontEnd {
   bool contact_ = false;
 };
 
-// ---- The tactile loop (its own thread) ---------------------------------------------------
-struct LoopResult {
-  std::string outcome = "running";
-};
+// ---- The tactile loop (its own thread): tactile_run.hpp -----------------------------------
+lieservo::franka_example::RunSettings runSettings(const Args& a) {
+  lieservo::franka_example::RunSettings r;
+  r.duration_s = a.duration;
+  r.approach_speed = a.approach_speed;
+  r.approach_max_mm = a.approach_max_mm;
+  return r;
+}
 
-void tactileLoop(const Args& a, FrankaAdapter& robot, TactileFrontEnd& sensor, std::atomic<bool>& quit,
-                 LoopResult& result) {
-  using clock = std::chrono::steady_clock;
-  const bool push = a.task == "push";
-  lieservo::TactileServoController<SE3d> servo(lieservo::surfaceFollowingPreset<double>());
-  servo.setFeedforward(lieservo::surfaceFollowingFeedforward<double>(lieservo::deg2rad(a.heading_deg), a.speed));
-  auto push_options = lieservo::pushingPreset<double>(lieservo::PushingConfiguration::single_arm);
-  lieservo::PushingController<double> pusher(push_options);
-  lieservo::DiscriminativeBayesFilter<SE3d> filter;
-
-  SE3d X_ws;
-  if (robot.readPose(X_ws) != Status::ok) {
-    result.outcome = "cannot read the robot pose";
-    return;
-  }
-  if (push) {
+// The task's loop from the options: surface following (Table 7, the feedforward along
+// --heading) or single-arm pushing (Table 8, towards --target at the sensor's height).
+std::string tactileLoop(const Args& a, FrankaAdapter& robot, TactileFrontEnd& sensor, const std::atomic<bool>& quit) {
+  if (a.task == "push") {
+    SE3d X_ws;
+    if (robot.readPose(X_ws) != Status::ok) return "cannot read the robot pose: " + robot.lastError();
+    lieservo::TactileLoop<lieservo::PushingController<double>>::Options o;
+    o.controller = lieservo::pushingPreset<double>(lieservo::PushingConfiguration::single_arm);
     // Target at the sensor's current height (work x), paper (y, z) = (0, 375) mm.
     Eigen::Vector3d p(X_ws.translation().x(), a.target[1], a.target[2]);
     if (a.target[0] != 0) p.x() = a.target[0];
-    pusher.setTarget(SE3d(lieservo::SO3<double>::identity(), p));
+    o.controller.target = SE3d(lieservo::SO3<double>::identity(), p);
+    lieservo::TactileLoop<lieservo::PushingController<double>> loop(o);
+    if (loop.configurationStatus() != Status::ok) return std::string("pushing: ") + lieservo::describe(loop.configurationStatus());
+    return lieservo::franka_example::runTactileLoop(runSettings(a), robot, sensor, loop, quit);
   }
-
-  const Eigen::Vector3d approach_start = X_ws.translation();
-  bool touched = false;
-  clock::time_point last = clock::now();
-  const clock::time_point t_end = clock::now() + std::chrono::duration_cast<clock::duration>(
-                                                     std::chrono::duration<double>(a.duration));
-  TactileSample sample;
-  std::string error;
-  while (!quit.load()) {
-    if (!sensor.next(sample, error)) {  // no more commands: the adapter's watchdog stops the arm
-      result.outcome = "tactile front end failed: " + error;
-      return;
-    }
-    const double dt = std::max(1e-3, std::chrono::duration<double>(sample.stamp - last).count());
-    last = sample.stamp;
-    if (clock::now() > t_end) {
-      result.outcome = "duration reached";
-      return;
-    }
-    if (robot.readPose(X_ws) != Status::ok) continue;
-    const auto st = robot.stats();
-    if (st.faulted) {
-      result.outcome = "robot fault: " + robot.lastError();
-      return;
-    }
-    if (st.watchdog == lieservo::realtime::WatchdogState::tripped_contact_loss) {
-      result.outcome = "contact lost: stopped (watchdog)";
-      return;
-    }
-
-    Twist u = Twist::Zero();
-    if (!touched) {
-      // Approach along the sensor z (out of the tip, into the surface/object) until contact.
-      if (sample.in_contact) {
-        touched = true;
-        filter.reset();
-        if (filter.step(X_ws, sample.observation) != Status::ok) continue;  // first step initialises
-        std::puts("contact: servoing");
-      } else {
-        if ((X_ws.translation() - approach_start).norm() > a.approach_max_mm) {
-          result.outcome = "no contact within the approach distance";
-          return;
-        }
-        u[2] = a.approach_speed;
-        robot.commandVelocity(u, dt, false);
-        continue;
-      }
-    } else if (filter.step(X_ws, sample.observation) != Status::ok) {
-      continue;  // keep the last command; the watchdog stops the arm if this persists
-    }
-    const SE3d& X_sf = filter.filtered().mean;
-    Status s;
-    if (push) {
-      s = pusher.step(X_ws, X_sf, dt, u);
-      if (s == Status::ok && pusher.terminated()) {
-        result.outcome = "target reached";
-        return;
-      }
-    } else {
-      s = servo.step(X_sf, dt, u);
-    }
-    if (s != Status::ok) continue;
-    robot.commandVelocity(u, dt, sample.in_contact);
-  }
-  result.outcome = "interrupted";
+  lieservo::TactileLoop<lieservo::TactileServoController<SE3d>>::Options o;
+  o.controller = lieservo::surfaceFollowingPreset<double>();
+  o.controller.feedforward = lieservo::surfaceFollowingFeedforward<double>(lieservo::deg2rad(a.heading_deg), a.speed);
+  lieservo::TactileLoop<lieservo::TactileServoController<SE3d>> loop(o);
+  if (loop.configurationStatus() != Status::ok) return std::string("following: ") + lieservo::describe(loop.configurationStatus());
+  return lieservo::franka_example::runTactileLoop(runSettings(a), robot, sensor, loop, quit);
 }
 
 }  // namespace
@@ -262,8 +186,8 @@ int main(int argc, char** argv) {
 
     OpenCvGdnFrontEnd sensor(args);  // captures the no-contact reference: keep the tip free
     std::atomic<bool> quit{false};
-    LoopResult result;
-    std::thread tactile([&] { tactileLoop(args, robot, sensor, quit, result); });
+    std::string outcome = "running";
+    std::thread tactile([&] { outcome = tactileLoop(args, robot, sensor, quit); });
     std::atomic<bool> tactile_done{false};
     std::thread waiter([&] {
       tactile.join();
@@ -284,7 +208,7 @@ int main(int argc, char** argv) {
     }
     waiter.join();
     robot.stop();  // ramp to zero inside the limits and end the libfranka motion
-    std::printf("finished: %s\n", result.outcome.c_str());
+    std::printf("finished: %s\n", outcome.c_str());
     if (!robot.lastError().empty()) std::printf("last libfranka error: %s\n", robot.lastError().c_str());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());

@@ -422,6 +422,58 @@ PaperGainConvention convention(double control_period) {
 }
 
 /// The paper's controllers (Tables 6-9) on SE(3), double.
+// A LoopOutcome as Python sees it: its enumerator's name.
+const char* outcomeName(LoopOutcome o) {
+  switch (o) {
+    case LoopOutcome::initialised: return "initialised";
+    case LoopOutcome::commanded: return "commanded";
+    case LoopOutcome::gated: return "gated";
+    case LoopOutcome::terminated: return "terminated";
+    case LoopOutcome::refused: break;
+  }
+  return "refused";
+}
+
+// The tactile loop (control/tactile_loop.hpp) for one controller: made from a filter and a
+// controller object (their options; the loop starts uninitialised), stepped once a frame.
+template <class Controller>
+void bindLoop(py::module_& m, const char* name, const char* controller_name) {
+  using Loop = TactileLoop<Controller>;
+  using Filter = DiscriminativeBayesFilter<SE3d, DefaultJacobian>;
+  const std::string doc = std::string("The tactile loop (docs/control.md, section 8): the Bayes filter and a ") +
+                          controller_name + ", stepped together under one policy.";
+  py::class_<Loop>(m, name, doc.c_str())
+      .def(py::init([](const Filter& filter, const Controller& controller) {
+             const typename Loop::Options o{filter.options(), controller.options()};
+             check(Loop::validate(o), "TactileLoop");
+             return Loop(o);
+           }),
+           py::arg("filter"), py::arg("controller"),
+           "A new loop with the filter's and the controller's options (neither object is changed or shared).")
+      .def(
+          "step",
+          [](Loop& loop, const SE3d& sensor_pose, const ConcentratedGaussian<SE3d>& observation, double dt) {
+            Vec6 u;
+            Status s;
+            {
+              py::gil_scoped_release free_gil;  // one loop object per thread
+              s = loop.step(sensor_pose, observation, dt, u);
+            }
+            check(s, "step");
+            return u;
+          },
+          py::arg("sensor_pose"), py::arg("observation"), py::arg("dt"),
+          "One tactile frame: X_ws, the observation of X_sf and dt > 0 → the sensor body twist. Raises "
+          "lieservo.Error when refused (nothing changed); outcome says what an accepted step did.")
+      .def("reset", &Loop::reset, "The filter forgets and the controller is cleared (options kept).")
+      .def_property_readonly(
+          "outcome", [](const Loop& loop) { return outcomeName(loop.outcome()); },
+          "'initialised', 'commanded', 'gated' (the prediction used), 'terminated' or 'refused'.")
+      .def_property_readonly("terminated", &Loop::terminated)
+      .def_property_readonly("filtered", [](const Loop& loop) { return loop.filter().filtered(); },
+                             "The filtered ConcentratedGaussian of X_sf.");
+}
+
 void bindControl(py::module_& m) {
   using Pid = MimoPid<double, 6>;
   py::class_<Pid>(m, "MimoPid", "The 6-channel PID with feedforward (eq. 19, eqn:ff_fb_pid_control), diagonal gains.")
@@ -551,14 +603,17 @@ void bindControl(py::module_& m) {
             r["follower_velocity"] = Vec6(fo.velocity);
             r["leader_feature_in_sensor"] = lo.feature_in_sensor;
             r["follower_feature_in_sensor"] = fo.feature_in_sensor;
-            r["leader_gated"] = lo.filter_status == Status::outlier_rejected;
-            r["follower_gated"] = fo.filter_status == Status::outlier_rejected;
+            r["leader_gated"] = lo.outcome == LoopOutcome::gated;
+            r["follower_gated"] = fo.outcome == LoopOutcome::gated;
             return r;
           },
           py::arg("leader_pose"), py::arg("leader_observation"), py::arg("follower_pose"),
           py::arg("follower_observation"), py::arg("dt"),
           "Filters both observations and steps both controllers; returns a dict of both twists and filtered poses.")
       .def("reset", &Dual::reset);
+
+  bindLoop<TactileServoController<SE3d>>(m, "TactileLoop", "TactileServoController");
+  bindLoop<PushingController<double>>(m, "PushingLoop", "PushingController");
 }
 
 }  // namespace

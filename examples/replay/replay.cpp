@@ -94,11 +94,26 @@ std::string cacheKey(const std::string& gdn_hash, const std::string& cnn_hash, c
          (samples.empty() ? std::string("-") : samples.back().image) + " images " + image_dir;
 }
 
+constexpr const char* kCacheMagic = "lieservo-replay-cache v1";
+
+// A cache file may be overwritten only when it is one: absent, or starting with the magic line.
+// Anything else (a typo naming a user's file, a folder) is refused before anything is written.
+void requireOwnCache(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return;
+  std::string magic;
+  std::ifstream in(path);
+  if (fs::is_regular_file(path, ec) && in && std::getline(in, magic) && magic == kCacheMagic) return;
+  throw std::runtime_error("--cache " + path + ": the file exists and is not a lieservo_replay cache (its first line is not '" +
+                           kCacheMagic + "'); it is left untouched: name another file");
+}
+
 bool readCache(const std::string& path, const std::string& key, std::size_t n, bool with_cnn, RawOutputs& out) {
   std::ifstream in(path);
   if (!in) return false;
   std::string magic, k;
-  if (!std::getline(in, magic) || magic != "lieservo-replay-cache v1") return false;
+  if (!std::getline(in, magic) || magic != kCacheMagic) return false;
   if (!std::getline(in, k) || k != key) return false;
   RawOutputs r;
   r.gdn.resize(n);
@@ -114,16 +129,29 @@ bool readCache(const std::string& path, const std::string& key, std::size_t n, b
   return true;
 }
 
+// Written to a temporary name beside the cache and renamed over it, so a killed run leaves the
+// old cache or the new one, never half of one.
 void writeCache(const std::string& path, const std::string& key, const RawOutputs& r) {
-  std::ofstream out(path);
-  if (!out) return;  // a cache is optional
-  out << "lieservo-replay-cache v1\n" << key << "\n" << std::setprecision(9);
-  for (std::size_t i = 0; i < r.gdn.size(); ++i) {
-    for (std::size_t j = 0; j < 12; ++j) out << r.gdn[i][j] << ' ';
-    if (!r.cnn.empty())
-      for (std::size_t j = 0; j < 6; ++j) out << r.cnn[i][j] << ' ';
-    out << '\n';
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    if (!out) return;  // a cache is optional
+    out << kCacheMagic << "\n" << key << "\n" << std::setprecision(9);
+    for (std::size_t i = 0; i < r.gdn.size(); ++i) {
+      for (std::size_t j = 0; j < 12; ++j) out << r.gdn[i][j] << ' ';
+      if (!r.cnn.empty())
+        for (std::size_t j = 0; j < 6; ++j) out << r.cnn[i][j] << ' ';
+      out << '\n';
+    }
+    if (!out.flush()) {
+      out.close();
+      std::remove(tmp.c_str());
+      return;
+    }
   }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) std::remove(tmp.c_str());
 }
 
 std::vector<std::array<double, 12>> runNetwork(ad::OnnxPoseModel& model, const std::vector<cv::Mat>& images,
@@ -388,6 +416,7 @@ ReplayResults runReplay(const ReplayOptions& opt) {
       cacheKey(hex(fnv1a(gdn_card.onnx_file)), with_cnn ? hex(fnv1a(cnn_card.onnx_file)) : "none", samples, image_dir);
   RawOutputs raw;
   const auto t1 = Clock::now();
+  if (!opt.cache_file.empty()) requireOwnCache(opt.cache_file);
   if (!opt.cache_file.empty() && readCache(opt.cache_file, key, n, with_cnn, raw)) {
     res.inference_cached = true;
     log("network outputs read from cache " + opt.cache_file);

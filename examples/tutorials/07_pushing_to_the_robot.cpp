@@ -7,7 +7,7 @@
 //   20 Hz tactile loop:  contact → GDN-like observation (μ, σ)
 //                        → concentrated Gaussian (eq. 14)
 //                        → Bayes filter with a χ² gate (Algorithm 2)
-//                        → pushing controller (Section 3.3.3)
+//                        → pushing controller (Section 3.3.3), the two as one TactileLoop
 //                        → a sensor twist, written to a channel;
 //   robot loop (here 400 Hz, the engine's step; 1 kHz on a Franka): read the newest twist → the
 //                        command watchdog → the twist in the robot's base frame, in m/s →
@@ -100,15 +100,16 @@ int main() {
   ContactModel contact(contact_params);
   GdnObservationModel gdn;  // the paper's Table 1 errors, seeded: the same run every time
 
-  // 2. The estimator and the controller: the paper's filter with the χ² gate on, and the
-  //    paper's single-arm pushing controller (Tables 7-8) aimed at the target.
-  DiscriminativeBayesFilter<SE3d>::Options filter_options;
-  filter_options.gating = true;  // reject an observation whose NIS is above χ²(6) at 0.999
-  DiscriminativeBayesFilter<SE3d> filter(filter_options);
-  auto push_options = pushingPreset<double>(PushingConfiguration::single_arm);
-  push_options.target = SE3d(SO3d::identity(), target);
-  PushingController<double> pusher(push_options);
-  if (!ok(pusher.configurationStatus(), "pushing controller")) return 1;
+  // 2. The tactile loop: the paper's filter with the χ² gate on, and the paper's single-arm
+  //    pushing controller (Tables 7-8) aimed at the target, stepped together by one class (the
+  //    same class the simulated tasks and the Franka program step; docs/control.md, section 8).
+  TactileLoop<PushingController<double>>::Options loop_options;
+  loop_options.filter.gating = true;  // reject an observation whose NIS is above χ²(6) at 0.999
+  loop_options.controller = pushingPreset<double>(PushingConfiguration::single_arm);
+  loop_options.controller.target = SE3d(SO3d::identity(), target);
+  TactileLoop<PushingController<double>> loop(loop_options);
+  if (!ok(loop.configurationStatus(), "tactile loop")) return 1;
+  const PushingController<double>& pusher = loop.controller();
 
   // 3. The real-time side: the channel that hands twists to the robot loop, and the pipeline
   //    (watchdog + base-frame conversion + jerk-limited smoother) that the robot loop runs.
@@ -121,7 +122,7 @@ int main() {
 
   // 4. The loops. Time is simulated: the stamps are the engine's clock in ns.
   const long outlier_step = 200;  // 10 s in: one corrupted observation
-  Status outlier_status = Status::ok;
+  LoopOutcome outlier_outcome = LoopOutcome::refused;
   long rejected = 0, steps = 0;
   double fastest = 0, hardest = 0;  // the largest commanded base speed (m/s) and acceleration (m/s²)
   std::array<double, 6> last{};
@@ -144,22 +145,20 @@ int main() {
 
   std::printf("   t (s)   object (x, y) mm   distance to target (mm)   bearing (deg)\n");
   while (steps * dt < 120) {
-    // Tactile loop: observe, filter, control.
+    // Tactile loop: observe, then filter and control in one step.
     const ContactState state = touchContact(world, 0, contact);  // what the sensor feels
     GdnObservation obs = gdn.observe(state);
     if (steps == outlier_step) obs.mu[1] += 30;  // the misread image: 30 mm of shear along y
     ConcentratedGaussian<SE3d> observation;
     if (!ok(fromTangentGaussian(obs.mu, obs.sigma, observation), "observation")) break;
-    const Status fs = filter.step(robot.pose(), observation);  // the first step initialises
-    if (steps == outlier_step) outlier_status = fs;
-    if (fs == Status::outlier_rejected) {
-      ++rejected;  // not an error: filtered() is the prediction from the robot's own motion
-    } else if (!ok(fs, "filter")) {
-      break;
-    }
     SE3d::Tangent u;
-    if (!ok(pusher.step(robot.pose(), filter.filtered().mean, dt, u), "pushing controller")) break;
-    if (pusher.terminated()) break;  // the tip is within 20 mm of the target: stop (below)
+    // A refusal changes nothing and ends the run; everything else commands (the first step
+    // initialises the filter; a gated observation is not an error: the controller then uses
+    // the prediction from the robot's own motion).
+    if (!ok(loop.step(robot.pose(), observation, dt, u), "tactile loop")) break;
+    if (steps == outlier_step) outlier_outcome = loop.outcome();
+    if (loop.outcome() == LoopOutcome::gated) ++rejected;
+    if (loop.outcome() == LoopOutcome::terminated) break;  // the tip is within 20 mm of the target: stop (below)
 
     realtime::TwistCommand command;
     for (int i = 0; i < 6; ++i) command.twist_s[std::size_t(i)] = u[i];
@@ -187,7 +186,7 @@ int main() {
   std::printf("after %.1f s: the tip %.1f mm from the target, the object at (%.1f, %.1f) mm; "
               "%ld observation(s) rejected by the gate; the injected one: %s\n",
               steps * dt, pusher.terminationDistance(), X_wo.translation().x(), X_wo.translation().y(), rejected,
-              describe(outlier_status));
+              describe(outlier_outcome));
   std::printf("base commands: fastest %.1f mm/s (limit %.0f), hardest acceleration %.2f m/s^2 (limit %.1f); "
               "at rest %.1f ms after the stop request\n",
               fastest * 1e3, limits.translation.velocity * 1e3, hardest, limits.translation.acceleration,
@@ -197,7 +196,7 @@ int main() {
   // corrupted observation is rejected; no command exceeds the smoother's speed or acceleration
   // limit; the arm is at rest within 0.1 s of the stop request.
   const bool reached = pusher.terminated();
-  const bool gated = outlier_status == Status::outlier_rejected;
+  const bool gated = outlier_outcome == LoopOutcome::gated;
   const bool within = fastest <= limits.translation.velocity * (1 + 1e-9) &&
                       hardest <= limits.translation.acceleration * (1 + 1e-9);
   const bool stopped = pipeline.stopped() && stop_cycles * h <= 0.1;

@@ -27,6 +27,8 @@
 #include <lieservo/groups.hpp>
 #include <lieservo/sampling/random.hpp>
 
+#include <lieservo_cli/cli.hpp>
+
 using namespace lieservo;
 using G = SE3<double>;
 using Tangent = G::Tangent;
@@ -169,7 +171,12 @@ void formTable(int pairs) {
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
+  // No options: --help says what it prints; anything else is bad usage (exit 2).
+  CLI::App app("The fusion error table of docs/estimation.md: the five-iteration fusion against the fusion run to "
+               "convergence, on seeded factor pairs (no options).",
+               "lieservo_fusion_error_table");
+  if (const int status = lieservo::cli::parse(app, argc, argv); status >= 0) return status;
   bool ok = table("Realistic factors: sigma 0.1-1 mm, 0.5-2 deg", 0.1, 1.0, 0.5, 2.0, 1000);
   ok = ok && table("Wide factors: sigma 1-5 mm, 2-10 deg", 1.0, 5.0, 2.0, 10.0, 1000);
   if (!ok) {

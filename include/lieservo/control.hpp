@@ -1,7 +1,7 @@
 // lieservo/control.hpp — umbrella header of the control layer (paper:
 // Section 3.3 (sec:se3_feedforward_feedback_control)): PID with feedforward, tactile servoing, pushing,
 // dual-arm leader/follower (decentralised, and with a centralised follower) and the paper's
-// controller presets (Tables 6–9).
+// controller presets (Tables 6–9); the tactile loop that runs a filter and a controller together.
 #pragma once
 
 #include <lieservo/control/centralised_dual_arm.hpp>
@@ -9,4 +9,5 @@
 #include <lieservo/control/pid.hpp>
 #include <lieservo/control/presets.hpp>
 #include <lieservo/control/pushing_controller.hpp>
+#include <lieservo/control/tactile_loop.hpp>
 #include <lieservo/control/tactile_servo_controller.hpp>

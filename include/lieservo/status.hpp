@@ -11,8 +11,9 @@
 namespace lieservo {
 
 /// What every checked call returns: ok, or the reason it failed (each function says what it
-/// leaves unchanged; describe() gives a phrase).
-enum class Status : int {
+/// leaves unchanged; describe() gives a phrase). [[nodiscard]]: a call whose Status is dropped
+/// does not compile without a warning; discard one on purpose with a (void) cast and a reason.
+enum class [[nodiscard]] Status : int {
   ok = 0,                ///< success
   non_finite_input,      ///< a NaN or infinity in an input
   not_orthonormal,       ///< a rotation block is not orthonormal (or det != +1)

@@ -199,7 +199,7 @@ TEST_CASE("collect: refuses to resume with other parameters or a missing image",
   CHECK_THAT(readTextFile(log_path), Contains("collect_params.json") && Contains("different content"));
   fs::remove(dir + "/processed_images/image_2.png");
   const RunResult r = collect(dir);
-  CHECK(r.code == 1);
+  CHECK(r.code == 2);  // set-up: the data set does not match
   CHECK_THAT(r.log, Contains("targets.csv:3:1") && Contains("image_2.png"));
   // an edited row is detected too
   const std::string d2 = freshDir("edited");
@@ -208,9 +208,10 @@ TEST_CASE("collect: refuses to resume with other parameters or a missing image",
   text.replace(text.find("image_2.png,0,0,"), 16, "image_2.png,0,0,1");
   writeFileAtomic(d2 + "/targets.csv", text);
   const RunResult r2 = collect(d2);
-  CHECK(r2.code == 1);
+  CHECK(r2.code == 2);
   CHECK_THAT(r2.log, Contains("targets.csv:3:1") && Contains("is not sample 2"));
   // bad options
-  CHECK(collect(freshDir("badopt"), "--phi-max 120").code == 1);
+  CHECK(collect(freshDir("badopt"), "--phi-max 120").code == 2);
+  CHECK(collect(freshDir("badopt3"), "--z-min 7").code == 2);
   CHECK(collect(freshDir("badopt2"), "--frobnicate").code == 2);
 }

@@ -242,6 +242,25 @@ TEST_CASE("centralised dual arm: the decentralised twists plus the push and the 
   }
 }
 
+TEST_CASE("centralised dual arm: an enormous opposition gain is clipped, not overflowed to zero",
+          "[control][dual_arm][centralised]") {
+  auto o = centralisedDualArmPushingPreset<double>(false);
+  o.arms.leader.target = G(SO3<double>(), Eigen::Vector3d(0, 150, 900));
+  o.opposition_gain = 1e200;  // k_op |a| overflows to +inf for any misalignment
+  Central central(o, Filter(), Filter());
+  REQUIRE(central.configurationStatus() == Status::ok);
+  Scene scene(o.arms);
+  scene.X_wsF = scene.X_wsF * G(SO3<double>::fromEulerXYZ(deg2rad(8), deg2rad(3), 0), Eigen::Vector3d::Zero());
+  Dual::ArmInput inL{scene.X_wsL, {scene.featureL(), obsCov()}};
+  Dual::ArmInput inF{scene.X_wsF, {scene.featureF(), obsCov()}};
+  Dual::ArmOutput outL, outF;
+  REQUIRE(central.step(inL, inF, 0.05, outL, outF) == Status::ok);
+  const Eigen::Matrix3d R_FL = inF.sensor_pose.rotationMatrix().transpose() * inL.sensor_pose.rotationMatrix();
+  const Eigen::Vector3d v_op = central.followerFeedforward().head<3>() - R_FL.col(2) * outL.velocity[2];
+  CHECK(std::abs(v_op.norm() - o.max_opposition_speed) < 1e-9);
+  CHECK(outF.velocity.allFinite());
+}
+
 TEST_CASE("centralised dual arm: round an arc, the follower turns its axis back against the leader's",
           "[control][dual_arm][centralised]") {
   // Kinematic check of the opposition term alone (no feedback, no push): the follower rides a

@@ -114,3 +114,33 @@ TEST_CASE("no allocation per step: pushing and dual-arm pushing with filters", "
   CHECK(failures == 0);
   CHECK(allocations == 0);
 }
+
+TEST_CASE("no allocation per step: the tactile loop, commanded, gated and refused", "[control][alloc][loop]") {
+  TactileLoop<PushingController<double>>::Options o;
+  o.filter.gating = true;
+  o.controller = pushingPreset<double>(PushingConfiguration::single_arm);
+  o.controller.target = G(SO3<double>(), Eigen::Vector3d(0, 200, 600));
+  TactileLoop<PushingController<double>> loop(o);
+  TactileLoop<TactileServoController<G>> servo_loop({{}, surfaceFollowingPreset<double>()});
+  ConcentratedGaussian<G> obs(o.controller.servo.reference.inverse(), G::Jacobian::Identity() * 0.01);
+  int failures = 0, gated = 0;
+  long allocations = 0;
+  {
+    AllocationWindow w;
+    for (int k = 0; k < 3000; ++k) {
+      V6 n = V6::Zero();
+      for (int i = 0; i < 6; ++i) n[i] = 0.01 * std::sin(0.7 * k + i);
+      if (k % 100 == 50) n[1] += 30;  // the gate rejects it
+      const ConcentratedGaussian<G> g(G::exp(n) * obs.mean, obs.covariance);
+      V6 u = V6::Zero();
+      failures += loop.step(G(), g, 0.02, u) != Status::ok;
+      gated += loop.outcome() == LoopOutcome::gated;
+      failures += servo_loop.step(G(), g, 0.02, u) != Status::ok;
+      failures += loop.step(G(), g, -1.0, u) == Status::ok;  // refused steps must not allocate either
+    }
+    allocations = w.count();
+  }
+  CHECK(failures == 0);
+  CHECK(gated == 30);
+  CHECK(allocations == 0);
+}

@@ -210,3 +210,36 @@ TEST_CASE("pushing: wrapAngle", "[control][pushing]") {
   CHECK(Push::wrapAngle(-p) == Approx(p));
   CHECK(Push::wrapAngle(-1.5 * p) == Approx(0.5 * p));
 }
+
+TEST_CASE("pushing: a TerminationDistance outside the enum is refused", "[control][pushing]") {
+  Push::Options o = simple(2.0);
+  o.termination_distance = static_cast<TerminationDistance>(7);
+  CHECK(Push::validate(o) == Status::invalid_argument);
+  Push push;
+  CHECK(push.configure(o) == Status::invalid_argument);
+  CHECK(push.options().termination_distance == TerminationDistance::sensor_yz_plane);
+}
+
+TEST_CASE("pushing: a numerical failure after the alignment PID stepped leaves both PIDs as they were",
+          "[control][pushing]") {
+  // The servo's feedforward and the alignment's output are each finite and large along y of the
+  // reference frame; their sum overflows. The alignment PID has stepped by then.
+  Push::Options o = simple(1e308);
+  o.servo.feedforward = v6(0, -1.7e308, 0, 0, 0, 0);
+  Push push(o);
+  REQUIRE(push.configurationStatus() == Status::ok);
+  const G X_sf = push.options().servo.reference.inverse();
+  V6 u = V6::Zero();
+  REQUIRE(push.setTarget(at(0, 0, 300)) == Status::ok);  // straight ahead: θ = 0, u_y = 0
+  REQUIRE(push.step(G::identity(), X_sf, 0.05, u) == Status::ok);
+  REQUIRE(push.alignment().steps() == 1);
+  const double smoothed = push.alignment().smoothedError();
+  const long servo_steps = push.servo().pid().steps();
+  REQUIRE(push.setTarget(at(0, 300, 0)) == Status::ok);  // θ = 90°: u_y = −1.57e308
+  const V6 u_before = u;
+  CHECK(push.step(G::identity(), X_sf, 0.05, u) == Status::numerical_failure);
+  CHECK(push.alignment().steps() == 1);
+  CHECK(push.alignment().smoothedError() == smoothed);
+  CHECK(push.servo().pid().steps() == servo_steps);
+  CHECK(u == u_before);
+}

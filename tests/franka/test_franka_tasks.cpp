@@ -20,7 +20,10 @@
 // before the first run.
 #include <catch2/catch.hpp>
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <functional>
 #include <memory>
@@ -32,6 +35,7 @@
 
 #include <franka_adapter.hpp>
 #include <franka_sim/arm.h>
+#include <tactile_run.hpp>
 
 #include "dynamic_servo.hpp"
 
@@ -81,7 +85,7 @@ SE3d flangeMm(const panda::Joints& q) {
 }
 
 /// What one run of the tactile loop did.
-struct LoopOutcome {
+struct RunOutcome {
   bool finished = false;           ///< the task said it had finished (pushing: terminated)
   double time = 0;                 ///< s simulated
   double max_twist_gap = 0;        ///< mm/s: achieved against commanded translation, worst period
@@ -98,16 +102,23 @@ Vec3 planar(const SE3d& X) {
 
 /// The tactile loop shared by every run, one period of kDt at a time: read X_ws, observe the
 /// contact through the seeded GDN model (both runs of a task see the same noise sequence for the
-/// same contacts), filter it (Algorithm 2), let `control` compute the twist from X_ws, the
-/// filtered X_sf and the true contact (and say when the task has finished), send it with
-/// `command`, and move the robot and the world through the period with `run_period`.
-template <class Control, class Command, class RunPeriod, class Pose>
-LoopOutcome tactileLoop(mujoco::World& world, const ContactParams& contact_params, double timeout, Control control,
-                        Command command, RunPeriod run_period, Pose pose) {
-  LoopOutcome out;
+/// same contacts), step the task's lieservo::TactileLoop (the filter, then the controller: the
+/// class the simulated tasks and the Franka program step), let the task say from the true
+/// contact whether it has finished, send the twist with `command`, and move the robot and the
+/// world through the period with `run_period`.
+/// One period's inputs and command, as `tactileLoop` records them when asked.
+struct RecordedFrame {
+  SE3d X_ws;
+  lieservo::ConcentratedGaussian<SE3d> observation;
+  SE3d::Tangent u;
+};
+
+template <class Task, class Command, class RunPeriod, class Pose>
+RunOutcome tactileLoop(mujoco::World& world, const ContactParams& contact_params, double timeout, Task&& task,
+                       Command command, RunPeriod run_period, Pose pose, std::vector<RecordedFrame>* record = nullptr) {
+  RunOutcome out;
   ContactModel contact(contact_params);
   GdnObservationModel gdn;
-  lieservo::DiscriminativeBayesFilter<SE3d> filter;
   auto fail = [&](Status s, const char* where) {
     out.status = s;
     out.where = where;
@@ -124,12 +135,12 @@ LoopOutcome tactileLoop(mujoco::World& world, const ContactParams& contact_param
     const GdnObservation obs = gdn.observe(state);
     lieservo::ConcentratedGaussian<SE3d> g;
     s = lieservo::fromTangentGaussian(obs.mu, obs.sigma, g);
-    if (s == Status::ok) s = filter.step(X_ws, g);
-    if (s != Status::ok) return fail(s, "filter"), out;
+    if (s != Status::ok) return fail(s, "observation"), out;
     SE3d::Tangent u;
-    bool finished = false;
-    s = control(X_ws, filter.filtered().mean, state, u, finished);
-    if (s != Status::ok) return fail(s, "controller"), out;
+    s = task.loop.step(X_ws, g, kDt, u);
+    if (s != Status::ok) return fail(s, "tactile loop"), out;
+    if (record) record->push_back({X_ws, g, u});
+    const bool finished = task.finished(state);
     out.time = double(k) * kDt;
     if (finished) {
       out.finished = true;
@@ -238,7 +249,7 @@ class AdapterRig {
   /// smoother's lag at the tasks' 10-25 mm/s); the world's sensor within 0.5 mm of the flange's
   /// mount; the arm inside its joint limits and away from singularities; the joint controller's
   /// torques inside the Panda's limits.
-  void finishAndCheck(const char* task, LoopOutcome& run) {
+  void finishAndCheck(const char* task, RunOutcome& run) {
     run.max_pose_gap = max_pose_gap_;
     const auto stats = adapter_.stats();
     arm_->setLockstep(false);
@@ -351,7 +362,7 @@ struct DualOutcome {
   double min_opposition = 180;   ///< deg: the smallest angle between the contact normals
   long follower_out = 0;         ///< periods with the follower out of contact
   long both_touching = 0;        ///< periods with both arms in contact (where the angle is read)
-  LoopOutcome arm[2];            ///< per arm: the achieved against commanded twist (as tactileLoop)
+  RunOutcome arm[2];            ///< per arm: the achieved against commanded twist (as tactileLoop)
   Status status = Status::ok;    ///< the first non-ok Status met (ok if none)
   std::string where;
 };
@@ -414,7 +425,7 @@ DualOutcome dualLoop(mujoco::World& world, const ContactParams& contact_params, 
       ++gaps;
     }
   }
-  for (LoopOutcome& a : out.arm) a.rms_twist_gap = gaps ? std::sqrt(2 * a.rms_twist_gap / double(gaps)) : 0.0;
+  for (RunOutcome& a : out.arm) a.rms_twist_gap = gaps ? std::sqrt(2 * a.rms_twist_gap / double(gaps)) : 0.0;
   return out;
 }
 
@@ -435,41 +446,123 @@ mujoco::SceneSpec followingScene(const ContactParams& contact, double h) {
 /// Surface following along the ramp (Table 7's servo, 10 mm/s along +y) until the contact passes
 /// y = L + 30, with the depth error and tilt of the true contact every period (as the task).
 struct Following {
-  lieservo::TactileServoController<SE3d> servo{lieservo::surfaceFollowingPreset<double>()};
+  using Loop = lieservo::TactileLoop<lieservo::TactileServoController<SE3d>>;
+  Loop loop;
   Stat depth_error, tilt;  // |depth − 3 mm| (mm), angle of z_s from the normal (deg)
   bool contact_kept = true;
 
   Following() {
-    REQUIRE(servo.configurationStatus() == Status::ok);
-    REQUIRE(servo.setFeedforward(lieservo::surfaceFollowingFeedforward<double>(lieservo::pi<double>() / 2)) ==
-            Status::ok);
+    Loop::Options o;
+    o.controller = lieservo::surfaceFollowingPreset<double>();
+    o.controller.feedforward = lieservo::surfaceFollowingFeedforward<double>(lieservo::pi<double>() / 2);
+    REQUIRE(loop.configure(o) == Status::ok);
   }
-  Status operator()(const SE3d&, const SE3d& X_sf, const ContactState& c, SE3d::Tangent& u, bool& finished) {
+  bool finished(const ContactState& c) {
     depth_error.add(c.depth - lieservo::paper::kSurfaceFollowing.reference_pose[2]);
     tilt.add(c.tilt * 180 / lieservo::pi<double>());
     contact_kept = contact_kept && c.in_contact;
-    finished = c.point_w.y() > followingRamp().size2 + 30;
-    return servo.step(X_sf, kDt, u);
+    return c.point_w.y() > followingRamp().size2 + 30;
   }
 };
 
 /// Single-arm pushing: Table 8's controller towards kTarget; the trial ends when it terminates.
 struct Pushing {
-  lieservo::PushingController<double> pusher;
+  using Loop = lieservo::TactileLoop<lieservo::PushingController<double>>;
+  Loop loop;
   Pushing() {
-    auto options = lieservo::pushingPreset<double>(lieservo::PushingConfiguration::single_arm);
-    options.target = SE3d(SO3d::identity(), kTarget);
-    pusher = lieservo::PushingController<double>(options);
-    REQUIRE(pusher.configurationStatus() == Status::ok);
+    Loop::Options o;
+    o.controller = lieservo::pushingPreset<double>(lieservo::PushingConfiguration::single_arm);
+    o.controller.target = SE3d(SO3d::identity(), kTarget);
+    REQUIRE(loop.configure(o) == Status::ok);
   }
-  Status operator()(const SE3d& X_ws, const SE3d& X_sf, const ContactState&, SE3d::Tangent& u, bool& finished) {
-    const Status s = pusher.step(X_ws, X_sf, kDt, u);
-    finished = pusher.terminated();
-    return s;
-  }
+  bool finished(const ContactState&) const { return loop.outcome() == lieservo::LoopOutcome::terminated; }
 };
 
 }  // namespace
+
+namespace {
+
+/// The Franka program's side of the comparison below: recorded frames as its front end's
+/// samples (a first one that only sets the clock, then one every 50 ms), and a robot that reads
+/// the recorded poses and keeps what it is commanded.
+struct RecordedFrontEnd final : lieservo::franka_example::TactileFrontEnd {
+  const std::vector<RecordedFrame>& frames;
+  std::size_t next_frame = 0;
+  bool clock_set = false;
+  explicit RecordedFrontEnd(const std::vector<RecordedFrame>& f) : frames(f) {}
+  bool next(lieservo::franka_example::TactileSample& out, std::string& error) override {
+    const std::size_t k = clock_set ? next_frame++ : 0;
+    if (k >= frames.size()) {
+      error = "end of the recording";
+      return false;
+    }
+    out.observation = frames[k].observation;
+    out.in_contact = true;
+    out.stamp = std::chrono::steady_clock::time_point{} + std::chrono::milliseconds(50 * (clock_set ? k + 1 : 0));
+    clock_set = true;
+    return true;
+  }
+};
+struct RecordingRobot {
+  struct Stats {
+    bool faulted = false;
+    lieservo::realtime::WatchdogState watchdog = lieservo::realtime::WatchdogState::active;
+  };
+  const std::vector<RecordedFrame>& frames;
+  std::size_t reads = 0;
+  std::vector<SE3d::Tangent> commands;
+  std::vector<double> dts;
+  explicit RecordingRobot(const std::vector<RecordedFrame>& f) : frames(f) {}
+  Status readPose(SE3d& X) {
+    // Once before the first frame, then once a frame.
+    X = frames[std::min(reads == 0 ? 0 : reads - 1, frames.size() - 1)].X_ws;
+    ++reads;
+    return Status::ok;
+  }
+  Status commandVelocity(const SE3d::Tangent& u, double dt, bool) {
+    commands.push_back(u);
+    dts.push_back(dt);
+    return Status::ok;
+  }
+  Stats stats() const { return {}; }
+  std::string lastError() const { return ""; }
+};
+
+}  // namespace
+
+TEST_CASE("the Franka program's tactile thread commands what the simulation's loop commands, bit for bit",
+          "[robot][franka][loop]") {
+  const ContactParams contact_params;
+  const int substeps = stepsPerPeriod(kDt);
+  const double h = kDt / substeps;
+  // The simulation's path: the pushing scene's first 8 s, the sensor body driven by the twists.
+  std::vector<RecordedFrame> frames;
+  {
+    mujoco::World world(pushingScene(contact_params, h));
+    DrivenBodies robot(world, substeps, h);
+    const RunOutcome run = tactileLoop(
+        world, contact_params, 8.0, Pushing(), [&](const SE3d::Tangent& u, bool c) { return robot.command(0, u, c); },
+        [&] { return robot.runPeriod(); }, [&](SE3d& X) { return robot.pose(0, X); }, &frames);
+    REQUIRE(run.status == Status::ok);
+  }
+  REQUIRE(frames.size() >= 150);
+  // The Franka program's path (examples/franka/tactile_run.hpp) on the same frames.
+  RecordedFrontEnd sensor(frames);
+  RecordingRobot robot(frames);
+  Pushing task;
+  lieservo::franka_example::RunSettings settings;
+  settings.duration_s = 3600;
+  const std::atomic<bool> quit{false};
+  const std::string ended = lieservo::franka_example::runTactileLoop(settings, robot, sensor, task.loop, quit);
+  CHECK(ended == "tactile front end failed: end of the recording");
+  REQUIRE(robot.commands.size() == frames.size());
+  long same = 0;
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    same += std::memcmp(robot.commands[k].data(), frames[k].u.data(), sizeof(double) * 6) == 0;
+    CHECK(robot.dts[k] == kDt);
+  }
+  CHECK(same == long(frames.size()));
+}
 
 TEST_CASE("franka adapter on the double: single-arm pushing of the blue square on MDF", "[robot][franka][task]") {
   const ContactParams contact_params;
@@ -478,7 +571,7 @@ TEST_CASE("franka adapter on the double: single-arm pushing of the blue square o
   constexpr double kTimeout = 120;
 
   // 1. The driven-body run: the sensor body follows the controller's twist exactly.
-  LoopOutcome driven;
+  RunOutcome driven;
   Vec3 driven_object;
   {
     mujoco::World world(pushingScene(contact_params, h));
@@ -493,7 +586,7 @@ TEST_CASE("franka adapter on the double: single-arm pushing of the blue square o
   // 2. The same scene through the adapter on the double's Panda.
   mujoco::World world(pushingScene(contact_params, h));
   AdapterRig rig("sim-panda-pushing-task", world);
-  LoopOutcome through = tactileLoop(
+  RunOutcome through = tactileLoop(
       world, contact_params, kTimeout, Pushing(), [&](const SE3d::Tangent& u, bool c) { return rig.command(u, c); },
       [&] { return rig.runPeriod(); }, [&](SE3d& X) { return rig.pose(X); });
   const Vec3 object = planar(world.objectPose(0));
@@ -560,7 +653,7 @@ TEST_CASE("franka adapter on the double: dual-arm pushing of the blue square on 
       driven.time, through.min_opposition, driven.min_opposition, through.follower_out, driven.follower_out,
       object.x(), object.y(), object.z() * 180 / lieservo::pi<double>(), driven_object.x(), driven_object.y(),
       driven_object.z() * 180 / lieservo::pi<double>(), describe(through.status), through.where.c_str());
-  for (LoopOutcome& a : through.arm) {
+  for (RunOutcome& a : through.arm) {
     a.status = through.status;
     a.where = through.where;
   }
@@ -584,12 +677,12 @@ TEST_CASE("franka adapter on the double: surface following on the curved ramp", 
 
   // 1. The driven-body run (the task's world).
   Following driven;
-  LoopOutcome driven_run;
+  RunOutcome driven_run;
   {
     mujoco::World world(followingScene(contact_params, h));
     DrivenBodies robot(world, substeps, h);
     driven_run = tactileLoop(
-        world, contact_params, timeout, std::ref(driven),
+        world, contact_params, timeout, driven,
         [&](const SE3d::Tangent& u, bool c) { return robot.command(0, u, c); }, [&] { return robot.runPeriod(); },
         [&](SE3d& X) { return robot.pose(0, X); });
   }
@@ -600,8 +693,8 @@ TEST_CASE("franka adapter on the double: surface following on the curved ramp", 
   mujoco::World world(followingScene(contact_params, h));
   AdapterRig rig("sim-panda-following-task", world);
   Following through;
-  LoopOutcome run = tactileLoop(
-      world, contact_params, timeout, std::ref(through),
+  RunOutcome run = tactileLoop(
+      world, contact_params, timeout, through,
       [&](const SE3d::Tangent& u, bool c) { return rig.command(u, c); }, [&] { return rig.runPeriod(); },
       [&](SE3d& X) { return rig.pose(X); });
   through.depth_error.finish();

@@ -1,5 +1,6 @@
 // SO(3): group axioms, exp/log round trips (random and named hard cases), adjoint, Jacobians,
 // series inverse Jacobian, BCH, interpolation, checked construction, sampling.
+#include <limits>
 #include <sstream>
 
 #include "group_properties.hpp"
@@ -318,4 +319,32 @@ TEST_CASE("SO3 float exp: the SSE matrix assembly equals the scalar one bit for 
   }
   CHECK(differ == 0);
   CHECK(differ_rodrigues == 0);
+}
+
+TEMPLATE_TEST_CASE("checked construction refuses a negative or non-finite tolerance", "[core][so3][so2][se3][se2]",
+                   float, double) {
+  using S = TestType;
+  const S bad[] = {S(-1), S(-0.0001), std::numeric_limits<S>::quiet_NaN(), std::numeric_limits<S>::infinity()};
+  const SO3<S> keep = SO3<S>::exp(Eigen::Matrix<S, 3, 1>(S(0.1), S(0.2), S(0.3)));
+  const Eigen::Matrix<S, 3, 3> scaled = keep.rotationMatrix() * S(1.2);  // not a rotation at any sane tolerance
+  Eigen::Matrix<S, 4, 4> M = Eigen::Matrix<S, 4, 4>::Identity();
+  M.template topLeftCorner<3, 3>() = scaled;
+  const lieservo::SO2<S> keep2(S(0.4));
+  const Eigen::Matrix<S, 2, 2> scaled2 = keep2.rotationMatrix() * S(1.2);
+  Eigen::Matrix<S, 3, 3> M2 = Eigen::Matrix<S, 3, 3>::Identity();
+  M2.template topLeftCorner<2, 2>() = scaled2;
+  for (const S tol : bad) {
+    SO3<S> out = keep;
+    CHECK(SO3<S>::fromMatrix(scaled, out, tol) == lieservo::Status::invalid_argument);
+    CHECK(out.rotationMatrix() == keep.rotationMatrix());
+    lieservo::SE3<S> out_se3;
+    CHECK(lieservo::SE3<S>::fromMatrix(M, out_se3, tol) == lieservo::Status::invalid_argument);
+    lieservo::SO2<S> out2 = keep2;
+    CHECK(lieservo::SO2<S>::fromMatrix(scaled2, out2, tol) == lieservo::Status::invalid_argument);
+    CHECK(out2.rotationMatrix() == keep2.rotationMatrix());
+    lieservo::SE2<S> out_se2;
+    CHECK(lieservo::SE2<S>::fromMatrix(M2, out_se2, tol) == lieservo::Status::invalid_argument);
+  }
+  SO3<S> out;  // the tolerance itself is not the problem: 0 is valid, and refuses the scaled matrix
+  CHECK(SO3<S>::fromMatrix(scaled, out, S(0)) == lieservo::Status::not_orthonormal);
 }

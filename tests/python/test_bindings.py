@@ -292,6 +292,35 @@ def test_dual_arm_step_returns_both_twists():
         d.step(ls.SE3(), obs, ls.SE3(), obs, float("nan"))
 
 
+def test_tactile_loop_equals_the_filter_then_the_controller_and_refuses_without_change():
+    sigma = np.array([0.3, 0.3, 0.3, 0.01, 0.01, 0.01])
+    servo = ls.TactileServoController("surface_following")
+    servo.set_feedforward(ls.surface_following_feedforward(np.pi / 2))
+    loop = ls.TactileLoop(ls.DiscriminativeBayesFilter(gating=True), servo)
+    f = ls.DiscriminativeBayesFilter(gating=True)
+    outcomes = []
+    for k in range(30):
+        X_ws = ls.SE3.exp(np.array([0.5 * k, 0, 0, 0, 0, 0.002 * k]))
+        mu = np.array([0.2, -0.1, -3.0, 0.01, 0.0, 0.02]) + RNG.normal(size=6) * sigma
+        if k == 20:
+            mu[1] += 30.0                                       # a misread image: the gate rejects it
+        obs = ls.from_tangent_gaussian(mu, sigma)
+        u = loop.step(X_ws, obs, 0.05)
+        f.step(X_ws, obs)
+        assert np.array_equal(u, servo.step(f.filtered.mean, 0.05))  # bit for bit
+        outcomes.append(loop.outcome)
+    assert outcomes[0] == "initialised" and outcomes[20] == "gated" and outcomes[21] == "commanded"
+    before = loop.filtered.mean.log()
+    with pytest.raises(ls.Error) as e:
+        loop.step(ls.SE3(), obs, 0.0)
+    assert e.value.status == "invalid_time_step"
+    assert loop.outcome == "refused" and np.array_equal(loop.filtered.mean.log(), before)
+    push = ls.PushingLoop(ls.DiscriminativeBayesFilter(),
+                          ls.PushingController("single_arm", target=ls.SE3(ls.SO3(), np.array([0.0, 0.0, 10.0]))))
+    u = push.step(ls.SE3(), obs, 0.05)
+    assert push.terminated and push.outcome == "terminated" and np.array_equal(u, np.zeros(6))
+
+
 def test_the_module_refuses_what_is_not_real_numbers_and_extreme_quaternions():
     # Quaternions whose squared norm overflows or underflows are normalised, not turned to NaN.
     R = ls.SO3.from_quaternion(np.array([1e155, 1e155, 0, 0]))

@@ -17,10 +17,10 @@ namespace {
 struct Feed {
   CommandWatchdog& w;
   std::uint64_t seq = 0;
-  // A new command (fresh sequence) with the given age and contact flag.
-  Status fresh(double age, bool contact) { return w.step(++seq, age, contact); }
+  // A new command (fresh sequence) with the given age and contact flag; the cycle must be accepted.
+  void fresh(double age, bool contact) { REQUIRE(w.step(++seq, age, contact) == Status::ok); }
   // The same command seen again (no new sequence) at a later age.
-  Status again(double age, bool contact) { return w.step(seq, age, contact); }
+  void again(double age, bool contact) { REQUIRE(w.step(seq, age, contact) == Status::ok); }
 };
 
 }  // namespace

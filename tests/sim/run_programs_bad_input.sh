@@ -68,6 +68,11 @@ if [ -f "$data/val/targets.csv" ] && [ -f "$data/train/targets.csv" ] && [ -f "$
   cp "$models/train_val/model_card.json" "$models/train_val/held_out.csv" "$models/train_val/gdn.onnx" "$work/model/"
   dd if=/dev/zero of="$work/model/gdn.onnx" bs=4096 count=1 conv=notrunc 2>/dev/null
   expect 2 "SHA-256" -- "$demo" --model-card "$work/model/model_card.json" --quick --trials 1 --no-files
+  # --cache naming a file that is not a cache: refused, the file left byte for byte as it was.
+  printf 'a user'"'"'s notes\n' >"$work/notes.txt"
+  cp "$work/notes.txt" "$work/notes.orig"
+  expect 2 "not a lieservo_replay cache" -- "$replay" --data "$data" --models "$models/train_val" --quick 5 --no-cnn --cache "$work/notes.txt"
+  cmp -s "$work/notes.txt" "$work/notes.orig" || { echo "FAIL: --cache changed $work/notes.txt"; fails=$((fails + 1)); }
   # A corrupted params file in val.
   mkdir -p "$work/params"
   for split in train val; do

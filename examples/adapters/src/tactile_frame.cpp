@@ -55,8 +55,7 @@ SE3d FrameLoop::robotPose(std::uint64_t k) {
 Status FrameLoop::step(const Prediction& prediction) {
   ++frames;
   Status s = toObservation(prediction, observation);
-  if (s == Status::ok) s = filter.step(robotPose(frames), observation);
-  if (s == Status::ok) s = servo.step(filter.filtered().mean, 0.05, twist);
+  if (s == Status::ok) s = loop.step(robotPose(frames), observation, 0.05, twist);
   if (s != Status::ok) return s;
   realtime::TwistCommand cmd;
   for (int j = 0; j < 6; ++j) cmd.twist_s[std::size_t(j)] = twist[j];

@@ -71,7 +71,8 @@ Status MujocoSensorArm::commandVelocity(const SE3d::Tangent& twist_s, double dt)
 
 void MujocoSensorArm::stop() {
   applied_.setZero();
-  world_->setSensorTwist(sensor_, applied_);
+  // A zero twist for the arm's own sensor: setSensorTwist refuses only a bad index or a non-finite twist.
+  (void)world_->setSensorTwist(sensor_, applied_);
 }
 
 Status MujocoSensorArm::moveTo(const SE3d& X_ws) {

@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include <lieservo/estimation/bayes_filter.hpp>
+#include <lieservo/control/tactile_loop.hpp>
 #include <lieservo/estimation/concentrated_gaussian.hpp>
 
 #include <lieservo_plot/svg_figure.hpp>
@@ -28,6 +28,10 @@ namespace lieservo::sim::detail {
 
 using Filter = lieservo::DiscriminativeBayesFilter<SE3d>;
 using Gaussian = lieservo::ConcentratedGaussian<SE3d>;
+/// Tracking and following: the paper's filter and the servo controller (control/tactile_loop.hpp).
+using ServoLoop = lieservo::TactileLoop<lieservo::TactileServoController<SE3d>>;
+/// Single-arm pushing: the paper's filter and the pushing controller.
+using PushLoop = lieservo::TactileLoop<lieservo::PushingController<double>>;
 
 /// GDN observation of the true contact → concentrated Gaussian on X_sf
 /// (eq. 14, eq:se3_inverse_transform).
@@ -38,29 +42,15 @@ inline Status observeContact(ObservationSource& gdn, const ContactState& state, 
   return lieservo::fromTangentGaussian(obs.mu, obs.sigma, g);  // DefaultJacobian, as the filter
 }
 
-/// Observation + filter step at sensor pose X_ws; X_sf receives the filtered mean. An
-/// observation the filter's gate rejected is not an error (the prediction is used).
-inline Status senseContact(ObservationSource& gdn, const ContactState& state, Filter& filter, const SE3d& X_ws,
-                           SE3d& X_sf) {
-  Gaussian g;
-  Status s = observeContact(gdn, state, g);
-  if (s != Status::ok) return s;
-  s = filter.step(X_ws, g);  // the first step initialises
-  if (s != Status::ok && s != Status::outlier_rejected) return s;
-  X_sf = filter.filtered().mean;
-  return Status::ok;
-}
-
-/// One sensorised arm in the MuJoCo world: the arm, the tactile contact state, its
-/// observations (TaskOptions::observations, or its own seeded Gaussian model) and the Bayes
-/// filter.
+/// One sensorised arm in the MuJoCo world: the arm, the tactile contact state and its
+/// observations (TaskOptions::observations, or its own seeded Gaussian model). The filter and
+/// the controller are the task's tactile loop.
 struct EngineArm {
   MujocoSensorArm arm;
   ContactModel contact;
   GdnObservationModel gaussian;
   std::shared_ptr<ObservationSource> shared;
   ObservationSource* gdn;
-  Filter filter;
   ContactState state;
 
   EngineArm(mujoco::World& w, int sensor, const TaskOptions& opt, std::uint64_t seed)
@@ -76,10 +66,18 @@ struct EngineArm {
   /// The contact from the engine's nearest surface point (nothing in range: no contact).
   void touch(const mujoco::World& w) { state = touchContact(w, arm.sensor(), contact); }
   Status observe(Gaussian& g) { return observeContact(*gdn, state, g); }
-  Status sense(SE3d& X_sf) { return senseContact(*gdn, state, filter, pose(), X_sf); }
-  /// A new start: the filter forgets, the next contact starts unsheared.
-  void resetEstimation() {
-    filter = Filter();
+  /// One tactile period: this arm's contact observed, then `loop` (a TactileLoop) stepped at
+  /// the arm's pose; `u` receives the twist when the Status is ok (the loop's policy).
+  template <class Loop>
+  Status step(Loop& loop, double dt, Vec6& u) {
+    Gaussian g;
+    const Status s = observe(g);
+    return s == Status::ok ? loop.step(pose(), g, dt, u) : s;
+  }
+  /// A new start: the loop forgets (its filter re-initialises), the next contact starts unsheared.
+  template <class Loop>
+  void restart(Loop& loop) {
+    loop.reset();
     contact.release();
   }
 };

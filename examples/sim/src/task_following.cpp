@@ -15,7 +15,6 @@
 #include <cstdio>
 
 #include <lieservo/control/presets.hpp>
-#include <lieservo/control/tactile_servo_controller.hpp>
 
 #include "task_common.hpp"
 
@@ -29,9 +28,17 @@ struct PathLog {
   std::vector<Vec2> depth, tilt;
 };
 
+// The paper's filter and Table 7's servo with the feedforward along `heading` (rad).
+detail::ServoLoop::Options followingLoop(double heading, double speed) {
+  detail::ServoLoop::Options o;
+  o.controller = lieservo::surfaceFollowingPreset<double>();
+  o.controller.feedforward = lieservo::surfaceFollowingFeedforward<double>(heading, speed);
+  return o;
+}
+
 // Runs one following path; `done` decides the end from the contact state.
 template <class Done>
-void followPath(mujoco::World& world, detail::EngineArm& sa, lieservo::TactileServoController<SE3d>& ctrl,
+void followPath(mujoco::World& world, detail::EngineArm& sa, detail::ServoLoop& loop,
                 const TaskOptions& opt, double ref_depth, double timeout, Done done, FollowingPath& out, PathLog& log,
                 CsvWriter& csv, int path_id, double& t_global, std::vector<std::string>& failures) {
   const double dt = 1.0 / opt.control_rate;
@@ -46,10 +53,8 @@ void followPath(mujoco::World& world, detail::EngineArm& sa, lieservo::TactileSe
   out.states.add(0, world.positions());
   Vec3 p_prev = p_start;
   while (t < timeout) {
-    SE3d X_sf;
-    Status s = sa.sense(X_sf);
     Vec6 u = Vec6::Zero();
-    if (s == Status::ok) s = ctrl.step(X_sf, dt, u);
+    Status s = sa.step(loop, dt, u);  // observe, filter, control
     if (s != Status::ok) {
       failures.push_back("following " + out.name + ": loop status " + lieservo::describe(s));
       return;
@@ -166,11 +171,10 @@ FollowingResult runSurfaceFollowing(const TaskOptions& opt) {
     const double y0 = -30;
     mujoco::World world(followingScene(ramp, makePose(R_down, Vec3(0, y0, mujoco::rampHeight(ramp, y0) + R - ref_depth)), opt));
     EngineArm sa(world, 0, opt, opt.seed * 104729 + 3);
-    lieservo::TactileServoController<SE3d> ctrl(lieservo::surfaceFollowingPreset<double>());
-    ctrl.setFeedforward(lieservo::surfaceFollowingFeedforward<double>(kPi / 2, speed));
+    detail::ServoLoop loop(followingLoop(kPi / 2, speed));
     res.ramp.name = "curved ramp";
     const double y_end = ramp.size2 + 30;
-    followPath(world, sa, ctrl, opt, ref_depth, 1.6 * (y_end - y0) / speed,
+    followPath(world, sa, loop, opt, ref_depth, 1.6 * (y_end - y0) / speed,
                [&](const ContactState& c) { return c.point_w.y() > y_end; }, res.ramp, ramp_log, csv, 0, t_global,
                res.failures);
   }
@@ -188,19 +192,18 @@ FollowingResult runSurfaceFollowing(const TaskOptions& opt) {
     const SE3d X0 = makePose(R_down, Vec3(0, 0, a + R - ref_depth));
     mujoco::World world(followingScene(dome, X0, opt));
     EngineArm sa(world, 0, opt, opt.seed * 15485863 + 5);
-    lieservo::TactileServoController<SE3d> ctrl(lieservo::surfaceFollowingPreset<double>());
+    detail::ServoLoop loop;
     for (int i = 0; i < 8; ++i) {
       const double th = deg(45.0 * i);
       world.reset();
       sa.arm.stop();
-      sa.resetEstimation();
-      ctrl.reset();
-      ctrl.setFeedforward(lieservo::surfaceFollowingFeedforward<double>(th, speed));
+      sa.restart(loop);
+      if (loop.configure(followingLoop(th, speed)) != Status::ok) throw SceneError("surface following preset rejected");
       FollowingPath p;
       char nm[40];
       std::snprintf(nm, sizeof nm, "dome %d deg", 45 * i);
       p.name = nm;
-      followPath(world, sa, ctrl, opt, ref_depth, 2.0 * a * stop_angle / speed + 3,
+      followPath(world, sa, loop, opt, ref_depth, 2.0 * a * stop_angle / speed + 3,
                  [&](const ContactState& c) { return std::acos(std::clamp(c.normal_w.z(), -1.0, 1.0)) > stop_angle; },
                  p, dome_logs[i], csv, i + 1, t_global, res.failures);
       check(p, res.failures);

@@ -120,7 +120,7 @@ PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& options, st
   if (setup.dual_arm) follower = std::make_unique<EngineArm>(world, 1, opt, s0 + 2);
   const SE3d X_wt = makePose(Mat3::Identity(), Vec3(setup.target.x(), setup.target.y(), H));
 
-  lieservo::PushingController<double> single;
+  detail::PushLoop single;
   lieservo::DualArmPushing<double> dual;
   lieservo::CentralisedDualArmPushing<double> central;
   if (setup.dual_arm && setup.centralised) {
@@ -134,13 +134,13 @@ PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& options, st
     dual = lieservo::DualArmPushing<double>(o, Filter(), Filter());
     if (dual.configurationStatus() != Status::ok) throw SceneError("dual-arm pushing preset rejected");
   } else {
-    auto o = lieservo::pushingPreset<double>(lieservo::PushingConfiguration::single_arm);
-    o.target = X_wt;
-    single = lieservo::PushingController<double>(o);
-    if (single.configurationStatus() != Status::ok) throw SceneError("pushing preset rejected");
+    detail::PushLoop::Options o;
+    o.controller = lieservo::pushingPreset<double>(lieservo::PushingConfiguration::single_arm);
+    o.controller.target = X_wt;
+    if (single.configure(o) != Status::ok) throw SceneError("pushing preset rejected");
   }
   const lieservo::PushingController<double>& pusher =
-      setup.dual_arm ? (setup.centralised ? central.leader() : dual.leader()) : single;
+      setup.dual_arm ? (setup.centralised ? central.leader() : dual.leader()) : single.controller();
 
   leader.touch(world);
   if (follower) follower->touch(world);
@@ -167,17 +167,16 @@ PushTrial runPushTrial(const PushingSetup& setup, const TaskOptions& options, st
       uF = oF.velocity;
       terminated = setup.centralised ? central.terminated() : dual.terminated();
     } else {
-      SE3d X_sf;
-      s = leader.sense(X_sf);
-      if (s == Status::ok) s = single.step(leader.pose(), X_sf, dt, uL);
+      s = leader.step(single, dt, uL);
       terminated = single.terminated();
     }
     if (s != Status::ok || terminated) break;
     Vec3 force_L = Vec3::Zero(), force_F = Vec3::Zero();
     for (int j = 0; j < substeps; ++j) {
-      leader.arm.commandVelocity(uL, h);
-      if (follower) follower->arm.commandVelocity(uF, h);
-      if (world.step(h) != Status::ok) break;
+      Status moved = leader.arm.commandVelocity(uL, h);
+      if (moved == Status::ok && follower) moved = follower->arm.commandVelocity(uF, h);
+      if (moved == Status::ok) moved = world.step(h);
+      if (moved != Status::ok) break;
       leader.touch(world);
       if (follower) follower->touch(world);
       force_L += world.tipContactForce(0) / substeps;

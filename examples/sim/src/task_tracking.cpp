@@ -86,8 +86,10 @@ TrackingResult runObjectTracking(const TaskOptions& opt) {
       makePose(fromColumns(Vec3::UnitX(), -Vec3::UnitY(), -Vec3::UnitZ()), Vec3(0, 0, R - ref_depth)))};
   mujoco::World world(scene);
   EngineArm follower(world, 0, opt, opt.seed * 7919 + 11);
-  lieservo::TactileServoController<SE3d> ctrl(lieservo::objectTrackingPreset<double>());
-  if (ctrl.configurationStatus() != Status::ok) throw SceneError("object tracking preset rejected");
+  detail::ServoLoop::Options loop_options;
+  loop_options.controller = lieservo::objectTrackingPreset<double>();
+  detail::ServoLoop loop(loop_options);
+  if (loop.configurationStatus() != Status::ok) throw SceneError("object tracking preset rejected");
 
   // duration_scale < 1 shortens the legs at the same speeds (shorter moves, shorter times).
   const double S = std::min(1.0, std::max(0.1, opt.duration_scale));
@@ -137,10 +139,8 @@ TrackingResult runObjectTracking(const TaskOptions& opt) {
     const bool part2 = t >= T1;
     std::size_t leg = legs.size();
     // Control step: observe, filter, control.
-    SE3d X_sf;
-    Status s = follower.sense(X_sf);
     Vec6 u = Vec6::Zero();
-    if (s == Status::ok) s = ctrl.step(X_sf, dt, u);
+    Status s = follower.step(loop, dt, u);
     if (s != Status::ok) {
       res.failures.push_back(std::string("tracking: loop status ") + lieservo::describe(s));
       break;
@@ -176,7 +176,7 @@ TrackingResult runObjectTracking(const TaskOptions& opt) {
     const SE3d Xs = follower.pose();
     if (csv.isOpen()) {
       const Vec6 el = euler6(X_wl), es = euler6(Xs);
-      const Vec6 est = euler6(follower.filter.filtered().mean.inverse());
+      const Vec6 est = euler6(loop.filter().filtered().mean.inverse());
       csv.row({t, part2 ? 2.0 : 1.0, el[0], el[1], el[2], toDeg(el[3]), toDeg(el[4]), toDeg(el[5]), es[0], es[1], es[2],
                toDeg(es[3]), toDeg(es[4]), toDeg(es[5]), c.depth, est[2], toDeg(c.tilt), c.shear.x(), c.shear.y(),
                toDeg(c.twist), c.slipped ? 1.0 : 0.0});

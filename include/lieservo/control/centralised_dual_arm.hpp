@@ -95,9 +95,14 @@ class CentralisedDualArmPushing : public Configurable<CentralisedDualArmPushing<
     Tangent ff = Tangent::Zero();
     if (!arms_.terminated()) {
       const auto R_FL = (follower_in.sensor_pose.rotationMatrix().transpose() * leader_in.sensor_pose.rotationMatrix()).eval();
-      Vec3 v_op(options_.opposition_gain * R_FL(0, 2), options_.opposition_gain * R_FL(1, 2), Scalar(0));
-      const Scalar n = v_op.norm();
-      if (n > options_.max_opposition_speed) v_op *= options_.max_opposition_speed / n;
+      // v_op = k_op (a_x, a_y, 0), its norm clipped at v_op,max. The clip is decided on
+      // k_op·|a|, which a large gain overflows to +inf and then clips, instead of scaling an
+      // overflowed vector to 0.
+      const Vec3 a_xy(R_FL(0, 2), R_FL(1, 2), Scalar(0));
+      const Scalar a_n = a_xy.norm();
+      Vec3 v_op = options_.opposition_gain * a_xy;
+      if (options_.opposition_gain * a_n > options_.max_opposition_speed)
+        v_op = a_xy * (options_.max_opposition_speed / a_n);
       ff.template head<3>() = v_op + R_FL.col(2) * lo.velocity[2];
     }
     fo.velocity += ff;

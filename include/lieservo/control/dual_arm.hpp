@@ -7,12 +7,13 @@
 // (with covariance) and the arm's sensor pose X_ws into the filtered X_sf its controller uses.
 // The two arms are decentralised: they share nothing but the time step.
 //
-// Per step and arm: filter (reset on the first observation, then step), controller step.
-// An observation rejected by the filter's gate (Status::outlier_rejected) is not an error:
-// the controller uses the predicted belief and ArmOutput::filter_status reports it.
-// When the leader's push terminates (PushingController::terminated()), both arms output a
-// zero twist: the pushing sequence is over.
-// On any non-ok Status nothing changes (filters, controllers, outputs).
+// Per step and arm, the tactile loop's policy (control/tactile_loop.hpp, filterForControl): the
+// filter (its first step initialises), then the controller. An observation rejected by the
+// filter's gate is not an error: the controller uses the predicted belief, and the arm's
+// ArmOutput::outcome is LoopOutcome::gated. When the leader's push terminates
+// (PushingController::terminated()), both arms output a zero twist and the outcome terminated:
+// the pushing sequence is over. On any non-ok Status nothing changes (filters, controllers,
+// outputs): the step is refused.
 #pragma once
 
 #include <cmath>
@@ -22,6 +23,7 @@
 #include <lieservo/configurable.hpp>
 #include <lieservo/control/presets.hpp>
 #include <lieservo/control/pushing_controller.hpp>
+#include <lieservo/control/tactile_loop.hpp>
 #include <lieservo/control/tactile_servo_controller.hpp>
 #include <lieservo/estimation/bayes_filter.hpp>
 #include <lieservo/estimation/concentrated_gaussian.hpp>
@@ -31,8 +33,9 @@
 
 namespace lieservo {
 
-/// Leader (pusher) + follower (stabiliser), each with its own filter.  `Filter` must provide
-/// step(sensor_pose, observation) that initialises on its first call, reset() and filtered()
+/// Leader (pusher) + follower (stabiliser), each with its own filter: the dual-arm tactile loop.
+/// `Filter` must provide step(sensor_pose, observation) that initialises on its first call,
+/// initialised(), reset() and filtered()
 /// (a ConcentratedGaussian<SE3<Scalar>> or anything with a `mean` member): the lifecycle of
 /// DiscriminativeBayesFilter.
 template <class Scalar, class Filter = DiscriminativeBayesFilter<SE3<Scalar>>>
@@ -60,7 +63,8 @@ class DualArmPushing : public Configurable<DualArmPushing<Scalar, Filter>> {
   struct ArmOutput {
     Tangent velocity = Tangent::Zero();             ///< body twist in the arm's sensor frame
     Group feature_in_sensor = Group::identity();    ///< filtered X_sf used by the controller
-    Status filter_status = Status::ok;              ///< ok or outlier_rejected
+    /// initialised, commanded or gated (this arm's filter), or terminated (the leader's push is over)
+    LoopOutcome outcome = LoopOutcome::refused;
   };
 
   DualArmPushing() = default;
@@ -118,6 +122,7 @@ class DualArmPushing : public Configurable<DualArmPushing<Scalar, Filter>> {
     }
     if (leader_.terminated()) {
       fo.velocity.setZero();
+      lo.outcome = fo.outcome = LoopOutcome::terminated;
     } else {
       s = follower_.step(fo.feature_in_sensor, dt, fo.velocity);
       if (s != Status::ok) {
@@ -136,8 +141,9 @@ class DualArmPushing : public Configurable<DualArmPushing<Scalar, Filter>> {
     Status s = validateElement(leader_reference);
     if (s == Status::ok) s = validateElement(follower_reference);
     if (s != Status::ok) return s;
-    leader_.setReference(leader_reference);
-    follower_.setReference(follower_reference);
+    // Both were validated above, the only check setReference makes: neither can refuse now.
+    (void)leader_.setReference(leader_reference);
+    (void)follower_.setReference(follower_reference);
     return Status::ok;
   }
 
@@ -164,9 +170,8 @@ class DualArmPushing : public Configurable<DualArmPushing<Scalar, Filter>> {
   }
 
   static Status filterStep(Filter& filter, const ArmInput& in, ArmOutput& out) noexcept {
-    const Status s = filter.step(in.sensor_pose, in.observation);
-    if (s != Status::ok && s != Status::outlier_rejected) return s;
-    out.filter_status = s;
+    const Status s = filterForControl(filter, in.sensor_pose, in.observation, out.outcome);
+    if (s != Status::ok) return s;
     out.feature_in_sensor = filter.filtered().mean;
     return Status::ok;
   }

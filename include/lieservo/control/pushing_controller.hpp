@@ -80,7 +80,7 @@ class PushingController : public Configurable<PushingController<Scalar>> {
 
   /// ok, or the first reason: the servo's and the alignment PID's validate(), non_finite_input
   /// (a NaN bearing, cut-off or radius; the target's validateElement()), not_orthonormal (the
-  /// target), invalid_argument (a negative cut-off or radius).
+  /// target), invalid_argument (a negative cut-off or radius, a TerminationDistance outside the enum).
   static Status validate(const Options& o) noexcept {
     if (const Status s = Servo::validate(o.servo); s != Status::ok) return s;
     if (const Status s = Alignment::validate(o.alignment); s != Status::ok) return s;
@@ -88,6 +88,9 @@ class PushingController : public Configurable<PushingController<Scalar>> {
     if (const Status s = validateElement(o.target); s != Status::ok) return s;
     if (std::isnan(o.alignment_cutoff) || std::isnan(o.termination_radius)) return Status::non_finite_input;
     if (o.alignment_cutoff < Scalar(0) || o.termination_radius < Scalar(0)) return Status::invalid_argument;
+    if (o.termination_distance != TerminationDistance::sensor_yz_plane &&
+        o.termination_distance != TerminationDistance::euclidean)
+      return Status::invalid_argument;  // a value cast into the enum from outside its list
     return Status::ok;
   }
 
@@ -139,8 +142,10 @@ class PushingController : public Configurable<PushingController<Scalar>> {
       return Status::ok;
     }
 
-    // Tactile servoing (PID 1); copies restore the state if a later stage fails.
+    // Tactile servoing (PID 1); copies of both PIDs restore the state if a later stage fails
+    // (a two-phase step: nothing is kept unless every stage succeeded).
     const Servo servo_backup = servo_;
+    const Alignment alignment_backup = alignment_;
     Tangent u_servo = Tangent::Zero();
     s = servo_.step(feature_in_sensor, dt, u_servo);
     if (s != Status::ok) return s;
@@ -171,6 +176,7 @@ class PushingController : public Configurable<PushingController<Scalar>> {
     const Tangent out = u_servo + u_align;
     if (!out.allFinite()) {
       servo_ = servo_backup;
+      alignment_ = alignment_backup;
       return Status::numerical_failure;
     }
     target_in_reference_ = X_srt;

@@ -114,6 +114,7 @@ class SO2 : public LieGroupBase<SO2<Scalar_>, Eigen::Matrix<Scalar_, 1, 1>, Eige
   /// Checked: non_finite_input, or not_orthonormal unless ‖mᵀm − 1‖ ≤ tol and det m > 0;
   /// `out` is written only when ok.
   static Status fromMatrix(const Matrix& m, SO2& out, Scalar tol) noexcept {
+    if (!detail::validTolerance(tol)) return Status::invalid_argument;
     if (!m.allFinite()) return Status::non_finite_input;
     if (!((m.transpose() * m - Matrix2::Identity()).norm() <= tol)) return Status::not_orthonormal;
     if (!(m.determinant() > Scalar(0))) return Status::not_orthonormal;

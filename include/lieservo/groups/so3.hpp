@@ -161,7 +161,9 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
   /// Checked: finite, ‖CᵀC − I‖_F ≤ tol, det C > 0. `out` is untouched unless ok.
   static Status fromMatrix(const Matrix& C, SO3& out) noexcept { return fromMatrix(C, out, defaultTolerance()); }
   /// As the overload above, with the tolerance on ‖CᵀC − I‖_F given.
+  /// A negative or non-finite tolerance: invalid_argument.
   static Status fromMatrix(const Matrix& C, SO3& out, Scalar tol) noexcept {
+    if (!detail::validTolerance(tol)) return Status::invalid_argument;
     const Status s = check(C, tol);
     if (s == Status::ok) out.C_ = C;
     return s;

@@ -11,8 +11,9 @@ int run() {
   using namespace lieservo;
   using SE3d = SE3<double>;
 
-  DiscriminativeBayesFilter<SE3d> filter;       // Σφ = 0.5² (mm², deg²→rad²), 5 fusion iterations
-  TactileServoController<SE3d> servo(surfaceFollowingPreset<double>());  // Table 7, radians inside
+  // The tactile loop: the paper's filter (Σφ = 0.5² mm², deg²→rad²; 5 fusion iterations) and
+  // Table 7's servo (radians inside), stepped together under one policy (docs/control.md).
+  TactileLoop<TactileServoController<SE3d>> loop({{}, surfaceFollowingPreset<double>()});
 
   SE3d X_ws;                                    // sensor pose from the robot (mm, rad)
   SE3d::Tangent mu, sigma, twist;               // GDN output per component (mm, rad)
@@ -24,9 +25,8 @@ int run() {
     ConcentratedGaussian<SE3d> obs;
     Status s = fromTangentGaussian(mu, sigma, obs);                    // eq. 14 (eq:se3_inverse_transform)
     if (s == Status::ok)
-      s = filter.step(X_ws, obs);  // Algorithm 2 (the first step initialises)
-    if (s == Status::ok) s = servo.step(filter.filtered().mean, dt, twist);  // sensor-frame twist
-    if (s != Status::ok) { std::fprintf(stderr, "lieservo: %s\n", describe(s)); return 1; }
+      s = loop.step(X_ws, obs, dt, twist);  // Algorithm 2, then the servo: the sensor-frame twist
+    if (s != Status::ok) { std::fprintf(stderr, "lieservo: %s\n", describe(s)); return 1; }  // nothing changed
   }
   // --- end of the README example -------------------------------------------------------
   std::printf("lieservo consumer: twist = [%.3f %.3f %.3f %.4f %.4f %.4f]\n", twist[0], twist[1],

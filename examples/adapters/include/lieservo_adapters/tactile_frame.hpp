@@ -37,8 +37,8 @@ struct TactileFrame {
 /// of the real-time pipeline with the new command. Used by timeFrames and by
 /// benchmarks/bench_frame.cpp.
 struct FrameLoop {
-  DiscriminativeBayesFilter<SE3d> filter;
-  TactileServoController<SE3d> servo{surfaceFollowingPreset<double>()};
+  using Loop = TactileLoop<TactileServoController<SE3d>>;  ///< the filter and the servo (control/tactile_loop.hpp)
+  Loop loop{Loop::Options{{}, surfaceFollowingPreset<double>()}};
   realtime::CartesianVelocityPipeline pipeline;
   ConcentratedGaussian<SE3d> observation;
   SE3d::Tangent twist = SE3d::Tangent::Zero();  ///< the servo's command (sensor frame)
@@ -50,7 +50,8 @@ struct FrameLoop {
   static SE3d robotPose(std::uint64_t k);
   /// One frame from the network's prediction, the robot at robotPose(frames), stamped at 20 Hz.
   /// The first failing stage's Status; a failure leaves the loop's state as each stage's
-  /// contract says (unchanged for the failing stage).
+  /// contract says (unchanged for the failing stage). A gated observation is not a failure:
+  /// the tactile loop's policy uses the prediction.
   Status step(const Prediction& prediction);
 };
 

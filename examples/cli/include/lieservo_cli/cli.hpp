@@ -62,6 +62,12 @@ inline CLI::Validator finiteIn(double lo, double hi) {
       d.str());
 }
 
+/// A path that is not empty (an empty one would silently fall back to a default).
+inline CLI::Validator nonEmptyPath() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string { return s.empty() ? std::string("an empty path") : std::string(); }, "PATH");
+}
+
 /// Parses argv into `app`. Returns -1 when the program should go on, otherwise the status to
 /// exit with: kOk after --help (printed to stdout), kUsageOrSetup after a malformed, unknown or
 /// out-of-range option (the message, naming the option, on stderr).

@@ -13,6 +13,13 @@
 namespace lieservo {
 namespace detail {
 
+/// A tolerance a caller may give the checked constructors: finite and >= 0 (x - x is 0 only for
+/// a finite x; a negative tolerance would square to a positive one).
+template <class Scalar>
+bool validTolerance(Scalar tol) noexcept {
+  return tol >= Scalar(0) && tol - tol == Scalar(0);
+}
+
 /// The rigid motion (SE(2) or SE(3)) of a homogeneous matrix M, the checks of both groups'
 /// fromMatrix and fromMatrixProjected: non_finite_input; then the rotation block's status from
 /// Rotation::fromMatrix at tol, or from Rotation::fromMatrixProjected when `projected`; then
