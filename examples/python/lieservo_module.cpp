@@ -422,18 +422,6 @@ PaperGainConvention convention(double control_period) {
 }
 
 /// The paper's controllers (Tables 6-9) on SE(3), double.
-// A LoopOutcome as Python sees it: its enumerator's name.
-const char* outcomeName(LoopOutcome o) {
-  switch (o) {
-    case LoopOutcome::initialised: return "initialised";
-    case LoopOutcome::commanded: return "commanded";
-    case LoopOutcome::gated: return "gated";
-    case LoopOutcome::terminated: return "terminated";
-    case LoopOutcome::refused: break;
-  }
-  return "refused";
-}
-
 // The tactile loop (control/tactile_loop.hpp) for one controller: made from a filter and a
 // controller object (their options; the loop starts uninitialised), stepped once a frame.
 template <class Controller>
@@ -467,7 +455,7 @@ void bindLoop(py::module_& m, const char* name, const char* controller_name) {
           "lieservo.Error when refused (nothing changed); outcome says what an accepted step did.")
       .def("reset", &Loop::reset, "The filter forgets and the controller is cleared (options kept).")
       .def_property_readonly(
-          "outcome", [](const Loop& loop) { return outcomeName(loop.outcome()); },
+          "outcome", [](const Loop& loop) { return std::string(describe(loop.outcome())); },
           "'initialised', 'commanded', 'gated' (the prediction used), 'terminated' or 'refused'.")
       .def_property_readonly("terminated", &Loop::terminated)
       .def_property_readonly("filtered", [](const Loop& loop) { return loop.filter().filtered(); },

@@ -40,12 +40,12 @@ enum class LoopOutcome : int {
   refused,      ///< a check, the filter or the controller refused: nothing changed, no twist
 };
 
-/// A short phrase for a LoopOutcome; never allocates.
+/// The outcome's name (as the Python module gives it); never allocates.
 constexpr const char* describe(LoopOutcome o) noexcept {
   switch (o) {
     case LoopOutcome::initialised: return "initialised";
     case LoopOutcome::commanded: return "commanded";
-    case LoopOutcome::gated: return "gated (prediction used)";
+    case LoopOutcome::gated: return "gated";
     case LoopOutcome::terminated: return "terminated";
     case LoopOutcome::refused: return "refused";
   }

@@ -111,8 +111,8 @@ class SO2 : public LieGroupBase<SO2<Scalar_>, Eigen::Matrix<Scalar_, 1, 1>, Eige
   }
   /// Checked, at defaultTolerance(); see the overload with a tolerance.
   static Status fromMatrix(const Matrix& m, SO2& out) noexcept { return fromMatrix(m, out, defaultTolerance()); }
-  /// Checked: non_finite_input, or not_orthonormal unless ‖mᵀm − 1‖ ≤ tol and det m > 0;
-  /// `out` is written only when ok.
+  /// Checked: invalid_argument for a negative or non-finite tol, non_finite_input, or
+  /// not_orthonormal unless ‖mᵀm − 1‖ ≤ tol and det m > 0; `out` is written only when ok.
   static Status fromMatrix(const Matrix& m, SO2& out, Scalar tol) noexcept {
     if (!detail::validTolerance(tol)) return Status::invalid_argument;
     if (!m.allFinite()) return Status::non_finite_input;
