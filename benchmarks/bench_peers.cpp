@@ -304,8 +304,10 @@ void registerAll(const std::string& sfx) {  // sfx: "d" or "f", as the libraries
 }  // namespace
 
 int main(int argc, char** argv) {
-  accuracyReport();
-  registerAll<double>("d");
-  registerAll<float>("f");
-  return lieservo::bench::runBenchmarks(argc, argv);
+  return lieservo::bench::runBenchmarks(argc, argv, "SO(3) and SE(3) beside Sophus and manif, after an accuracy report", [] {
+    accuracyReport();
+    registerAll<double>("d");
+    registerAll<float>("f");
+    return -1;
+  });
 }

@@ -341,10 +341,14 @@ int dumpPolicy(std::FILE* f, const std::vector<Case>& cases) {
   return 0;
 }
 
-int dump(const char* path) {
-  std::FILE* f = std::fopen(path, "w");
+// The dump's first line starts so: --dump overwrites only such a file.
+constexpr const char* kDumpStart = "fuse,";
+
+int dump(const std::string& path) {
+  const std::string tmp = lieservo::cli::temporaryBeside(path);
+  std::FILE* f = std::fopen(tmp.c_str(), "w");
   if (!f) {
-    std::fprintf(stderr, "--dump %s: cannot open it for writing\n", path);
+    std::fprintf(stderr, "--dump %s: cannot open it for writing\n", path.c_str());
     return lieservo::cli::kUsageOrSetup;
   }
   const std::vector<Case> cases = realisticCases(8);
@@ -352,14 +356,20 @@ int dump(const char* path) {
   rc |= dumpPolicy<lieservo::SeriesJacobian<2>>(f, cases);
   rc |= dumpPolicy<lieservo::SeriesJacobian<4>>(f, cases);
   rc |= dumpPolicy<lieservo::ClosedFormJacobian>(f, cases);
-  std::fclose(f);
+  const bool written = std::fclose(f) == 0;
+  std::string why;
+  if (!written || !lieservo::cli::commitTemporary(tmp, path, why)) {
+    std::remove(tmp.c_str());
+    std::fprintf(stderr, "--dump %s: cannot write it\n", path.c_str());
+    return lieservo::cli::kUsageOrSetup;
+  }
   if (rc) std::fprintf(stderr, "dump: a fusion or filter step failed\n");
   return rc;
 }
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   std::string csv, dump_file;
   bool quick = false;
   int reps = 21;
@@ -380,7 +390,13 @@ int main(int argc, char** argv) {
       ->excludes(quick_option)
       ->excludes(reps_option);
   if (const int status = lieservo::cli::parse(app, argc, argv); status >= 0) return status;
-  if (!dump_file.empty()) return dump(dump_file.c_str());
+  // Before any work: an existing file is overwritten only when this program wrote it.
+  if (std::string why; (!csv.empty() && !lieservo::cli::mayOverwrite("--csv", csv, kHeader, why)) ||
+                       (!dump_file.empty() && !lieservo::cli::mayOverwrite("--dump", dump_file, kDumpStart, why))) {
+    std::fprintf(stderr, "%s\n", why.c_str());
+    return lieservo::cli::kUsageOrSetup;
+  }
+  if (!dump_file.empty()) return dump(dump_file);
   if (quick) reps = 1;
   const std::vector<Case> real = realisticCases(quick ? 10 : 200);
   const std::vector<Case> hard = hardCases(quick ? 2 : 20);
@@ -391,7 +407,7 @@ int main(int argc, char** argv) {
   for (const Reference& r : rr) missing += !r.ok;
   if (missing) {
     std::fprintf(stderr, "reference failed on %d realistic cases\n", missing);
-    return 1;
+    return lieservo::cli::kCriteriaMissed;
   }
   std::vector<Row> rows;
   allPolicies<double>(rows, "double", real, rr, hard, hr);
@@ -409,14 +425,22 @@ int main(int argc, char** argv) {
     std::nth_element(t.begin(), t.begin() + t.size() / 2, t.end());
     rows[k].ns = t[t.size() / 2];
   }
-  std::FILE* out = csv.empty() ? stdout : std::fopen(csv.c_str(), "w");
+  const std::string tmp = csv.empty() ? std::string() : lieservo::cli::temporaryBeside(csv);
+  std::FILE* out = csv.empty() ? stdout : std::fopen(tmp.c_str(), "w");
   if (!out) {
     std::fprintf(stderr, "--csv %s: cannot open it for writing\n", csv.c_str());
     return lieservo::cli::kUsageOrSetup;
   }
   std::fprintf(out, "%s\n", kHeader);
   for (const Row& r : rows) printRow(out, r);
-  if (out != stdout) std::fclose(out);
+  if (out != stdout) {
+    std::string why;
+    if (std::fclose(out) != 0 || !lieservo::cli::commitTemporary(tmp, csv, why)) {
+      std::remove(tmp.c_str());
+      std::fprintf(stderr, "--csv %s: cannot write it\n", csv.c_str());
+      return lieservo::cli::kUsageOrSetup;
+    }
+  }
   // Sanity (also the smoke test's assertion): closed form, double, 10 iterations is close to the
   // long-double reference on the realistic set (the iteration converges linearly: each update is
   // 2e-5 to 0.09 of the one before on these inputs, median 0.006, so the slowest case still moves
@@ -425,7 +449,11 @@ int main(int argc, char** argv) {
     if (r.scalar == "double" && r.order == -1 && r.iterations == 10 &&
         (r.real_fail > 0 || r.real_mean.rot > 1e-10 || r.real_max.rot > 1e-6 || r.real_max.cov > 1e-4)) {
       std::fprintf(stderr, "closed form, 10 iterations, double does not match the reference\n");
-      return 1;
+      return lieservo::cli::kCriteriaMissed;
     }
-  return 0;
+  return lieservo::cli::kOk;
+}
+
+int main(int argc, char** argv) {
+  return lieservo::cli::runProgram("lieservo_speed_error_report", [&] { return run(argc, argv); });
 }

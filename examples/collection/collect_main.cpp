@@ -8,7 +8,8 @@
 // Running the same command again after an interruption (Ctrl-C, crash, --stop-after) resumes
 // at the next sample. This build drives the kinematic stand-in arm and the synthetic image
 // source; the real set-up swaps in the Franka adapter (examples/franka) and a camera
-// ImageSource (examples/adapters) at the two marked places below.
+// ImageSource (examples/adapters) at the two marked places below. --out is a folder this
+// program made (or a new or empty one): a user's folder is refused with exit 2, untouched.
 #include "collector.hpp"
 #include "kinematic_arm.hpp"
 
@@ -30,7 +31,7 @@ extern "C" void onSignal(int) { g_stop = 1; }
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   using namespace lieservo::collection;
   namespace cli = lieservo::cli;
   CollectionConfig cfg;
@@ -42,7 +43,7 @@ int main(int argc, char** argv) {
                "0 done; 2 bad usage or set-up: a malformed or out-of-range option, an output folder that cannot be\n"
                "written, or a data set that does not match this command (other parameters, a missing image).",
                "lieservo_collect");
-  app.add_option("--out", cfg.out_dir, "the data set's folder")->required();
+  app.add_option("--out", cfg.out_dir, "the data set's folder (new, empty, or one it made)")->required()->check(cli::nonEmptyPath());
   app.add_option("--samples", cfg.n_samples, "number of samples in the plan")
       ->capture_default_str()
       ->check(cli::integerIn<std::size_t>(1, 100000000));
@@ -53,12 +54,12 @@ int main(int argc, char** argv) {
       ->check(cli::integerIn<std::size_t>(0, std::numeric_limits<std::size_t>::max()));
   app.add_flag("--sort-by-depth", cfg.sort_by_depth, "order the plan by increasing depth z");
   const double big = 1e6;
-  app.add_option("--r-max", cfg.ranges.r_max_mm, "shear disk radius (mm)")->capture_default_str()->check(cli::finiteIn(-big, big));
+  app.add_option("--r-max", cfg.ranges.r_max_mm, "shear disk radius (mm)")->capture_default_str()->check(cli::finiteIn(0, big));
   app.add_option("--z-min", cfg.ranges.z_min_mm, "least depth (mm)")->capture_default_str()->check(cli::finiteIn(-big, big));
   app.add_option("--z-max", cfg.ranges.z_max_mm, "greatest depth (mm)")->capture_default_str()->check(cli::finiteIn(-big, big));
   app.add_option("--phi-max", cfg.ranges.phi_max_deg, "contact-angle cap half-angle (deg)")
       ->capture_default_str()
-      ->check(cli::finiteIn(-big, big));
+      ->check(cli::finiteIn(0, 90));
   app.add_option("--gamma-min", cfg.ranges.gamma_min_deg, "least rotational shear (deg)")
       ->capture_default_str()
       ->check(cli::finiteIn(-big, big));
@@ -78,6 +79,12 @@ int main(int argc, char** argv) {
   app.add_option("--crash-at", cfg.crash_at)->group("")->check(cli::integerIn<std::size_t>(0, 100000000));
   app.add_option("--crash-point", cfg.crash_point)->group("")->check(cli::integerIn(0, 1));
   if (const int status = cli::parse(app, argc, argv); status >= 0) return status;
+  if (cfg.ranges.z_min_mm > cfg.ranges.z_max_mm || cfg.ranges.gamma_min_deg > cfg.ranges.gamma_max_deg) {
+    std::cerr << "lieservo_collect: " << (cfg.ranges.z_min_mm > cfg.ranges.z_max_mm ? "--z-min exceeds --z-max"
+                                                                                   : "--gamma-min exceeds --gamma-max")
+              << "\n(lieservo_collect --help lists the options)\n";
+    return cli::kUsageOrSetup;
+  }
   if (quiet) cfg.progress = false;
   const int width = image_size[0], height = image_size[1];
 
@@ -85,6 +92,12 @@ int main(int argc, char** argv) {
   std::signal(SIGTERM, onSignal);
   cfg.stop_requested = &g_stop;
 
+  // A data set's folder: one this program made (its collect_params.json, or the marker of a
+  // lieservo program), a new or an empty one. Anything else is a user's folder: refused.
+  if (std::string why; !cli::claimOutputFolder("--out", cfg.out_dir, "lieservo_collect", why, "collect_params.json")) {
+    std::cerr << "lieservo_collect: " << why << "\n";
+    return cli::kUsageOrSetup;
+  }
   try {
     // (1) The robot: the kinematic stand-in. A real run constructs the Franka adapter here.
     const auto X_wf = lieservo::SE3<double>::fromEulerXYZ6Degrees(cfg.work_frame);
@@ -96,9 +109,13 @@ int main(int argc, char** argv) {
     std::cerr << "[lieservo_collect] " << cfg.out_dir << ": " << r.rows_after << "/" << cfg.n_samples << " samples ("
               << r.written << " written now, " << r.rows_before << " found)"
               << (r.complete ? ", complete" : ", incomplete: run the same command again to resume") << "\n";
-    return 0;
+    return cli::kOk;
   } catch (const std::exception& e) {
     std::cerr << "lieservo_collect: " << e.what() << "\n";
     return cli::kUsageOrSetup;
   }
+}
+
+int main(int argc, char** argv) {
+  return lieservo::cli::runProgram("lieservo_collect", [&] { return run(argc, argv); });
 }

@@ -16,7 +16,7 @@ struct Options {
   std::string task = "follow";  ///< follow | push
   int camera = 0;
   std::string model_card;
-  std::string preprocess;  ///< processed_image_params.json ("" = defaults)
+  std::string preprocess;  ///< processed_image_params.json ("" = PreprocessParams{}, the data set's)
   std::vector<double> mount{0, 0, 0, 0, 0, 0};  ///< X_ES: the sensor frame in libfranka's EE frame
   std::vector<double> start;                    ///< optional X_ws to move to first
   double heading_deg = 90;  ///< follow: feedforward direction in the reference xy-plane
@@ -36,7 +36,9 @@ inline int parseOptions(int argc, char** argv, Options& out) {
   Options o = out;
   CLI::App app(
       "Pose-and-shear tactile servoing on a Franka arm with a TacTip: surface following or single-arm "
-      "pushing (docs/hardware.md). Poses: x,y,z (mm),a,b,g (degrees, extrinsic xyz).",
+      "pushing (docs/hardware.md). Poses: x,y,z (mm),a,b,g (degrees, extrinsic xyz). Exit status: 0 the run\n"
+      "ended (its outcome printed), 2 bad usage or set-up (a malformed option, a robot or camera that cannot be\n"
+      "reached, a failed move to the start).",
       "franka_servo_example");
   const CLI::Validator length = cli::finiteIn(-5000, 5000);  // mm or degrees: a coordinate or an angle
   app.add_option("--robot", o.robot_ip, "the robot's IP address")->required();
@@ -45,7 +47,9 @@ inline int parseOptions(int argc, char** argv, Options& out) {
       ->check(CLI::ExistingFile);
   app.add_option("--task", o.task, "follow | push")->capture_default_str()->check(CLI::IsMember({"follow", "push"}));
   app.add_option("--camera", o.camera, "the camera's index")->capture_default_str()->check(cli::integerIn(0, 63));
-  app.add_option("--preprocess", o.preprocess, "processed_image_params.json (default: the card's)")
+  app.add_option("--preprocess", o.preprocess,
+                 "processed_image_params.json (default: the shared data set's, as the card describes: bbox [105,20,550,460], "
+                 "threshold [61,5], mask r=230)")
       ->check(CLI::ExistingFile);
   app.add_option("--mount", o.mount, "X_ES, the sensor frame in libfranka's EE frame: x,y,z,a,b,g")
       ->expected(6)

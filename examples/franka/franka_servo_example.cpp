@@ -161,7 +161,8 @@ std::string tactileLoop(const Args& a, FrankaAdapter& robot, TactileFrontEnd& se
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
+  namespace cli = lieservo::cli;
   Args args;
   if (const int status = lieservo::franka_example::parseOptions(argc, argv, args); status >= 0) return status;
   std::signal(SIGINT, onSignal);
@@ -179,8 +180,8 @@ int main(int argc, char** argv) {
       std::puts("moving to the start pose");
       const Status s = robot.moveTo(poseFromMmDeg(args.start));
       if (s != Status::ok) {
-        std::fprintf(stderr, "moveTo failed: %s %s\n", lieservo::describe(s), robot.lastError().c_str());
-        return 1;
+        std::fprintf(stderr, "set-up: moveTo failed: %s %s\n", lieservo::describe(s), robot.lastError().c_str());
+        return cli::kUsageOrSetup;
       }
     }
 
@@ -210,9 +211,13 @@ int main(int argc, char** argv) {
     robot.stop();  // ramp to zero inside the limits and end the libfranka motion
     std::printf("finished: %s\n", outcome.c_str());
     if (!robot.lastError().empty()) std::printf("last libfranka error: %s\n", robot.lastError().c_str());
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
+  } catch (const std::exception& e) {  // the robot or the camera cannot be reached or set up
+    std::fprintf(stderr, "set-up error: %s\n", e.what());
+    return cli::kUsageOrSetup;
   }
-  return 0;
+  return cli::kOk;
+}
+
+int main(int argc, char** argv) {
+  return lieservo::cli::runProgram("franka_servo_example", [&] { return run(argc, argv); });
 }

@@ -28,7 +28,7 @@
 7. With --slip (alone, in seconds): where the skin slips. The shear the reproduction GDN reads
    from the val session's images, along the labelled shear direction, by depth and by labelled
    shear: once the skin slips the image stops changing, so the read shear levels off at the
-   slip radius (docs/simulation.md, "The gel and its slip, from the data").
+   slip radius (docs/simulation.md, "The gel").
 
 Units: mm and degrees (the networks' output units); sigma_psi in mm for rho, degrees for phi,
 as in the paper's Table 2.

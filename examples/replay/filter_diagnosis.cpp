@@ -134,7 +134,7 @@ BinMae filterMae(const std::vector<Row>& rows, double sig, bool converged, int& 
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   namespace cli = lieservo::cli;
   std::string path;
   std::vector<double> sigmas{10.0, 1.0, 0.1, 0.01};
@@ -208,7 +208,11 @@ int main(int argc, char** argv) {
   if (cells > 0) std::printf("%d of %d ratios within +-15 %% of the paper's\n", within, cells);
   if (expect_improvement && !improved) {
     std::fprintf(stderr, "--expect-improvement: the smallest sigma_psi did not lower every component's MAE\n");
-    return 1;
+    return cli::kCriteriaMissed;
   }
-  return 0;
+  return cli::kOk;
+}
+
+int main(int argc, char** argv) {
+  return lieservo::cli::runProgram("lieservo_filter_diagnosis", [&] { return run(argc, argv); });
 }

@@ -14,6 +14,7 @@
 
 #include <array>
 #include <cstdint>
+#include <iosfwd>
 #include <string>
 #include <vector>
 
@@ -112,7 +113,18 @@ struct ReplayResults {
   std::string table() const;
   /// The whole docs/results.md (`command` is printed as the command that produced it).
   std::string markdown(const ReplayOptions& options, const std::string& command) const;
+
+ private:
+  void markdownHeader(std::ostream& md, const ReplayOptions& o, const std::string& command) const;
+  void markdownTable1(std::ostream& md) const;
+  int markdownTable2(std::ostream& md, const ReplayOptions& o) const;  ///< ratios within ±15 %
+  void markdownCalibrated(std::ostream& md, int within) const;
+  void markdownTail(std::ostream& md, const ReplayOptions& o) const;
 };
+
+/// The first line of docs/results.md as the replay writes it: --results-md overwrites only a
+/// file that starts with it.
+inline constexpr const char* kResultsHeading = "# Results: the paper's Tables 1 and 2 on the real TacTip data";
 
 /// What `split` is to the network described by the model card at `card_path`, as a sentence
 /// for the report: the split it was trained on (all of it, or all but the card's held-out rows:
@@ -165,6 +177,9 @@ FilterRun replayFilter(const std::vector<Sample>& samples, const std::vector<Con
 
 /// mm, rad -> mm, deg (components 4-6).
 Vec6 toReportUnits(const SE3d::Tangent& xi);
+Vec6 toReportUnits(const Vec6& xi);
+/// 1/σ in 1/mm, 1/deg from σ in mm, rad.
+Vec6 precisionReportUnits(const Eigen::Matrix<double, 6, 1>& sigma);
 
 /// The paper's Table 2 MAE ratio for component j (0..5): its σψ = sigma_psi row over its own
 /// σψ = ∞ row. false when the paper has no such column.

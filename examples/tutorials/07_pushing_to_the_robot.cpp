@@ -80,21 +80,13 @@ int main() {
   const double height = 45;                 // mm, the sensor's axis above the support
   const Vec3 start(-250, 100, height), target(0, 375, height);
 
-  mujoco::SceneSpec scene;
-  scene.timestep = h;
-  scene.support = SupportSpec::mdf();
-  ObjectSpec square = shortObjects().front();  // the blue square
-  square.friction = contact_params.skin_friction;
-  square.contact_height = height;
-  square.x = start.x() + contact_params.tip_radius - 1.0 + mujoco::halfExtentX(square);
-  square.y = start.y();
-  scene.objects = {square};
-  mujoco::SensorSpec sensor;
-  sensor.tip_radius = contact_params.tip_radius;
-  sensor.gel_stiffness = contact_params.gel_stiffness;
-  sensor.gel_tangential_ratio = contact_params.gel_tangential_ratio;
-  sensor.initial_pose = makePose(fromColumns(-Vec3::UnitZ(), Vec3::UnitY(), Vec3::UnitX()), start);
-  scene.sensors = {sensor};
+  // The demo's pushing scene (pushingScene): the blue square on MDF in front of the sensor,
+  // 1 mm into contact, the sensor on the paper's right-angle mount at `start`.
+  PushingSetup setup;
+  setup.object = shortObjects().front();  // the blue square
+  setup.start = start.head<2>();
+  setup.sensor_height = height;
+  const mujoco::SceneSpec scene = pushingScene(setup, contact_params, h);
   mujoco::World world(scene);
   MujocoSensorArm robot(world, 0);
   ContactModel contact(contact_params);

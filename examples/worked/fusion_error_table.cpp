@@ -171,18 +171,22 @@ void formTable(int pairs) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   // No options: --help says what it prints; anything else is bad usage (exit 2).
   CLI::App app("The fusion error table of docs/estimation.md: the five-iteration fusion against the fusion run to "
-               "convergence, on seeded factor pairs (no options).",
+               "convergence, on seeded factor pairs (no options). Exit status: 0 ok, 1 a fusion failed, 2 bad usage.",
                "lieservo_fusion_error_table");
   if (const int status = lieservo::cli::parse(app, argc, argv); status >= 0) return status;
   bool ok = table("Realistic factors: sigma 0.1-1 mm, 0.5-2 deg", 0.1, 1.0, 0.5, 2.0, 1000);
   ok = ok && table("Wide factors: sigma 1-5 mm, 2-10 deg", 1.0, 5.0, 2.0, 10.0, 1000);
   if (!ok) {
     std::printf("a fusion failed\n");
-    return 1;
+    return lieservo::cli::kCriteriaMissed;
   }
   formTable(2000);
-  return 0;
+  return lieservo::cli::kOk;
+}
+
+int main(int argc, char** argv) {
+  return lieservo::cli::runProgram("lieservo_fusion_error_table", [&] { return run(argc, argv); });
 }

@@ -60,21 +60,16 @@ namespace {
 constexpr double kDt = 0.05;  // the 20 Hz tactile loop
 const Vec3 kStart(-250, 100, 45), kTarget(0, 375, 45);
 
-/// The blue square on MDF in front of a sensor at kStart on the paper's right-angle mount (z_s
-/// along the push +x, x_s down), 1 mm into contact: the scene of lesson 07 and of the
-/// driven-body pushing task.
-mujoco::SceneSpec pushingScene(const ContactParams& contact, double h) {
-  mujoco::SceneSpec scene;
-  scene.timestep = h;
-  scene.support = SupportSpec::mdf();
-  ObjectSpec square = shortObjects().front();
-  square.friction = contact.skin_friction;
-  square.contact_height = kStart.z();
-  square.x = kStart.x() + contact.tip_radius - 1.0 + mujoco::halfExtentX(square);
-  square.y = kStart.y();
-  scene.objects = {square};
-  scene.sensors = {taskSensor("sensor", contact, makePose(fromColumns(-Vec3::UnitZ(), Vec3::UnitY(), Vec3::UnitX()), kStart))};
-  return scene;
+/// The blue square on MDF in front of a sensor at kStart on the paper's right-angle mount, 1 mm
+/// into contact (the demo's pushing scene, lieservo::sim::pushingScene); `dual`: the follower
+/// opposite, 3 mm into the far face. The scene of lesson 07 and of the driven-body pushing tasks.
+mujoco::SceneSpec squareOnMdf(const ContactParams& contact, double h, bool dual = false) {
+  PushingSetup setup;
+  setup.object = shortObjects().front();
+  setup.dual_arm = dual;
+  setup.start = kStart.head<2>();
+  setup.sensor_height = kStart.z();
+  return pushingScene(setup, contact, h);
 }
 
 /// The flange pose O_T_EE of joints q, in mm.
@@ -344,17 +339,6 @@ class AdapterRig {
   long trips_ = 0, waiting_ = 0;  // periods ending with the watchdog tripped, or still arming
 };
 
-/// The pushing scene with the follower opposite the leader (the demo's dual-arm set-up): its
-/// axis along −x through the object's centre, into the far face, x_s down, 3 mm deep.
-mujoco::SceneSpec dualPushingScene(const ContactParams& contact, double h) {
-  mujoco::SceneSpec scene = pushingScene(contact, h);
-  const ObjectSpec& o = scene.objects.front();
-  const Vec3 at(o.x + mujoco::halfExtentX(o) + contact.tip_radius - 3.0, o.y, kStart.z());
-  scene.sensors.push_back(
-      taskSensor("follower", contact, makePose(fromColumns(-Vec3::UnitZ(), -Vec3::UnitY(), -Vec3::UnitX()), at)));
-  return scene;
-}
-
 /// What one dual-arm run did.
 struct DualOutcome {
   bool finished = false;         ///< the leader reached the target (the controller terminated)
@@ -538,7 +522,7 @@ TEST_CASE("the Franka program's tactile thread commands what the simulation's lo
   // The simulation's path: the pushing scene's first 8 s, the sensor body driven by the twists.
   std::vector<RecordedFrame> frames;
   {
-    mujoco::World world(pushingScene(contact_params, h));
+    mujoco::World world(squareOnMdf(contact_params, h));
     DrivenBodies robot(world, substeps, h);
     const RunOutcome run = tactileLoop(
         world, contact_params, 8.0, Pushing(), [&](const SE3d::Tangent& u, bool c) { return robot.command(0, u, c); },
@@ -574,7 +558,7 @@ TEST_CASE("franka adapter on the double: single-arm pushing of the blue square o
   RunOutcome driven;
   Vec3 driven_object;
   {
-    mujoco::World world(pushingScene(contact_params, h));
+    mujoco::World world(squareOnMdf(contact_params, h));
     DrivenBodies robot(world, substeps, h);
     driven = tactileLoop(
         world, contact_params, kTimeout, Pushing(),
@@ -584,7 +568,7 @@ TEST_CASE("franka adapter on the double: single-arm pushing of the blue square o
   }
 
   // 2. The same scene through the adapter on the double's Panda.
-  mujoco::World world(pushingScene(contact_params, h));
+  mujoco::World world(squareOnMdf(contact_params, h));
   AdapterRig rig("sim-panda-pushing-task", world);
   RunOutcome through = tactileLoop(
       world, contact_params, kTimeout, Pushing(), [&](const SE3d::Tangent& u, bool c) { return rig.command(u, c); },
@@ -626,7 +610,7 @@ TEST_CASE("franka adapter on the double: dual-arm pushing of the blue square on 
   DualOutcome driven;
   Vec3 driven_object;
   {
-    mujoco::World world(dualPushingScene(contact_params, h));
+    mujoco::World world(squareOnMdf(contact_params, h, true));
     DrivenBodies robot(world, substeps, h);
     driven = dualLoop(
         world, contact_params, kTimeout,
@@ -635,7 +619,7 @@ TEST_CASE("franka adapter on the double: dual-arm pushing of the blue square on 
     driven_object = planar(world.objectPose(0));
   }
 
-  mujoco::World world(dualPushingScene(contact_params, h));
+  mujoco::World world(squareOnMdf(contact_params, h, true));
   AdapterRig leader("sim-panda-dual-leader", world, 0, 0.0);
   AdapterRig follower("sim-panda-dual-follower", world, 1, lieservo::pi<double>());
   AdapterRig* rigs[2] = {&leader, &follower};

@@ -15,7 +15,9 @@ For RESULTS_DIR/index.html (written by lieservo_demo) it
      reads the PNG itself and requires the object's colour in it: at least MIN_OBJECT of the
      pixels below the caption bar fall in the object's colour class (OBJECT_COLOURS, HSV);
      the supports, the sensors, the target and the paths fall in none of them.
-  5. with --expect-pictures (a build with the renderer), that every pushing plot (but the
+  5. that the page opens with the pushing figure beside the paper's and that no row of the
+     summary table marked "(reported)" says "yes" (check_summary);
+  6. with --expect-pictures (a build with the renderer), that every pushing plot (but the
      opposition angles), the tracking errors and both following plots have their pictures on
      the page.
 With --self-test it first checks itself: in a scratch copy of the results it blanks one
@@ -191,6 +193,20 @@ def check_expected_pictures(results):
     return problems
 
 
+def check_summary(html):
+    """The page opens with the pushing figure (simulation beside the paper), and no row of the
+    summary table that only reports ("(reported)" in it, or "reported" in its pass column) says
+    it passed."""
+    problems = []
+    if not re.search(r'<img id="summary" src="[^"]+\.svg"', html):
+        problems.append("summary: the page has no pushing figure beside the paper's (img#summary)")
+    for row in re.findall(r"<tr>(.*?)</tr>", html):
+        cells = re.findall(r"<td[^>]*>(.*?)</td>", row)
+        if cells and "(reported)" in row and cells[-1] != "reported":
+            problems.append(f"summary: a reported row says '{cells[-1]}': {cells[1] if len(cells) > 1 else row}")
+    return problems
+
+
 def self_test(browser, cv2, results):
     """The check must catch a blank figure, a missing one and a time-lapse without its object.
     It runs on a page of those three alone (the real page's head and markup), so that Chromium
@@ -245,11 +261,16 @@ def main():
         return 77
     problems = []
     if "--self-test" in sys.argv[2:]:
+        fake = ('<tr><td>dual-arm push</td><td>blue circle, foam (mm) (reported)</td><td>1</td><td>2</td>'
+                '<td>yes</td></tr>')
+        if len(check_summary(fake)) != 2:
+            problems.append("self-test: check_summary missed a reported row saying yes or a missing figure")
         problems += self_test(browser, cv2, results)
         if not problems:
             print("self-test: a blank figure, a missing one and a time-lapse without its object "
                   "(when the page has time-lapses) are all reported")
     problems += check_page(browser, cv2, results)
+    problems += check_summary(open(os.path.join(results, "index.html"), encoding="utf-8").read())
     if "--expect-pictures" in sys.argv[2:]:
         problems += check_expected_pictures(results)
     for p in problems:

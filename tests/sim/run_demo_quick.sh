@@ -7,14 +7,14 @@
 set -u
 demo=$1
 out=$2
+log="$out.stdout.txt"  # beside the folder: the demo writes only into a folder of its own
 rm -rf "$out"
-mkdir -p "$out"
-"$demo" --quick --trials 1 --out "$out" >"$out/stdout.txt" 2>&1
+"$demo" --quick --trials 1 --out "$out" >"$log" 2>&1
 rc=$?
-cat "$out/stdout.txt"
+cat "$log"
 if [ "$rc" -ne 0 ]; then echo "demo.quick: lieservo_demo exited with $rc"; exit 1; fi
 # --trials given beside --quick is kept (--quick alone means 2).
-grep -q "x 1 trials" "$out/stdout.txt" || { echo "demo.quick: --trials 1 was not kept beside --quick"; exit 1; }
+grep -q "x 1 trials" "$log" || { echo "demo.quick: --trials 1 was not kept beside --quick"; exit 1; }
 page="$out/index.html"
 [ -s "$page" ] || { echo "demo.quick: no $page"; exit 1; }
 figures=0

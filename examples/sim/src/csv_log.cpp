@@ -1,13 +1,18 @@
 // CSV logs and output folders (see lieservo_sim/csv_log.hpp).
 #include "lieservo_sim/csv_log.hpp"
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <iomanip>
 
 namespace lieservo::sim {
 
 bool CsvWriter::open(const std::string& path, const std::vector<std::string>& header) {
-  out_.open(path);
+  close();
+  path_ = path;
+  tmp_ = path + ".tmp-" + std::to_string(static_cast<long>(::getpid()));
+  out_.open(tmp_);
   if (!out_) return false;
   for (std::size_t i = 0; i < header.size(); ++i) out_ << (i ? "," : "") << header[i];
   out_ << "\n";
@@ -19,6 +24,16 @@ void CsvWriter::row(const std::vector<double>& v) {
   if (!out_.is_open()) return;
   for (std::size_t i = 0; i < v.size(); ++i) out_ << (i ? "," : "") << v[i];
   out_ << "\n";
+}
+
+bool CsvWriter::close() {
+  if (!out_.is_open()) return false;
+  const bool written = bool(out_.flush());
+  out_.close();
+  std::error_code ec;
+  if (written) std::filesystem::rename(tmp_, path_, ec);
+  if (!written || ec) std::filesystem::remove(tmp_, ec);
+  return written && !ec;
 }
 
 bool makeDirectories(const std::string& path) {

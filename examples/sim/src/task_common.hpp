@@ -1,6 +1,8 @@
 // Internal helpers shared by the task implementations (not installed).
 #pragma once
 
+#include <functional>
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -87,5 +89,15 @@ inline std::string join(const std::string& dir, const std::string& file) {
 }
 
 inline double wrapPi(double a) { return std::remainder(a, 2 * kPi); }
+
+/// fn(i) for i in [0, n) on all cores (each run has its own world, filters and seed, so the
+/// results do not depend on how many); the first exception is rethrown (task_pushing.cpp).
+void parallelFor(int n, const std::function<void(int)>& fn);
+
+/// A pushing case's statistics and its misses against the criteria (docs/simulation.md,
+/// "Success criteria"; push_report.cpp).
+PushingCase judgeCase(const PushingSetup& setup, std::vector<PushTrial> trials, bool judged, const TaskOptions& opt);
+/// A pushing case's per-step log, dir/stem.csv (push_report.cpp).
+void writeCase(const PushingCase& pc, const std::string& dir, const std::string& stem);
 
 }  // namespace lieservo::sim::detail

@@ -1,7 +1,7 @@
 // lieservo_cli/cli.hpp — the command-line programs' options: CLI11 parses them (typed options,
 // generated --help); these validators add what CLI11 2.1 lets through (a negative number for an
 // unsigned option, NaN and infinity for a real one), and parse() maps the outcome to the
-// programs' shared exit statuses.
+// programs' shared exit statuses (program.hpp).
 #pragma once
 
 #include <charconv>
@@ -14,14 +14,9 @@
 
 #include <CLI/CLI.hpp>
 
-namespace lieservo::cli {
+#include "lieservo_cli/program.hpp"
 
-/// Exit statuses shared by the programs.
-enum ExitStatus : int {
-  kOk = 0,              ///< ran, and met its criteria where it has any
-  kCriteriaMissed = 1,  ///< ran, and a task missed its criteria
-  kUsageOrSetup = 2,    ///< bad usage or set-up: a malformed option, missing data, an unreadable file
-};
+namespace lieservo::cli {
 
 /// A decimal integer in [lo, hi]: digits only (a leading '-' where lo < 0), no exponent, no
 /// suffix, no wrap-around.

@@ -166,6 +166,21 @@ struct PushingSetup {
   double timeout = 120;            ///< s; a trial also stops after 1 s with the leader out of contact
   void validate() const;           ///< throws SceneError
 };
+/// Where a pushed object starts in front of the leader: sideways offset (mm), yaw (rad).
+struct PushPlacement {
+  double offset = 0;
+  double yaw = 0;
+};
+
+/// The scene of a push, the one place it is built (the tasks, lesson 07, the libfranka-double
+/// tests): `setup`'s support with its μ_s × `friction_scale`, its object (skin friction μ_c)
+/// at `placement` in front of the leader's sensor, setup.initial_depth into contact; the leader
+/// on the paper's right-angle mount (z_s along the push +x, x_s down) at setup.start and
+/// setup.sensor_height and, for two arms, the follower opposite, normal to the far face at
+/// setup.follower_depth; engine step h (s).
+mujoco::SceneSpec pushingScene(const PushingSetup& setup, const ContactParams& contact, double h,
+                               const PushPlacement& placement = {}, double friction_scale = 1.0);
+
 struct PushTrial {
   double target_error = 0;      ///< perpendicular distance target ↔ contact normal (mm)
   double final_distance = 0;    ///< sensor centre ↔ target at the end (mm)
@@ -235,7 +250,7 @@ PushingResult runSingleArmPushing(const TaskOptions& opt, int trials = 5);
 /// (d) dual arm: the short prisms on foam and MDF, then the tall prisms and the everyday objects
 /// on MDF, with the paper's decentralised follower or (`centralised`) the centralised one.
 /// With the paper's follower the round objects are run and reported but not judged
-/// (docs/simulation.md, "The paper's follower on round objects").
+/// (docs/simulation.md, "Task set-ups", (d)).
 PushingResult runDualArmPushing(const TaskOptions& opt, int trials = 5, bool centralised = false);
 /// The tall prisms and everyday objects pushed by one arm on the compliant foam: reported (how
 /// many topple), not judged.
