@@ -29,12 +29,8 @@ std::array<double, 6> toArray(const Twist& t) {
   return {t[0], t[1], t[2], t[3], t[4], t[5]};
 }
 
-realtime::SensorMount mountInMetres(const SE3d& X_es_mm) {
-  realtime::SensorMount m;
-  m.R_es = X_es_mm.rotationMatrix();
-  m.p_es = 1e-3 * X_es_mm.translation();
-  return m;
-}
+constexpr double kMetresPerMm = 1e-3;  // the library's lengths (mm) → libfranka's (m)
+constexpr double kMmPerMetre = 1e3;
 
 }  // namespace
 
@@ -49,8 +45,9 @@ FrankaAdapter::FrankaAdapter(const FrankaAdapterOptions& options) : options_(opt
 
   pipeline_options_.limits = options_.limits;
   pipeline_options_.watchdog = options_.watchdog;
-  pipeline_options_.mount = mountInMetres(options_.X_ee_s);
-  pipeline_options_.twist_to_metres = 1e-3;
+  // The one mount: X_ES in libfranka's metres, as O_T_EE is (the options give it in mm).
+  pipeline_options_.mount = realtime::SensorMount::fromLibraryUnits(options_.X_ee_s, kMetresPerMm);
+  pipeline_options_.twist_to_metres = kMetresPerMm;
   pipeline_options_.control_period_s = 1e-3;  // libfranka's command period
   realtime::CartesianVelocityPipeline probe;
   const Status s = probe.configure(pipeline_options_);
@@ -70,16 +67,10 @@ FrankaAdapter::FrankaAdapter(const FrankaAdapterOptions& options) : options_(opt
 FrankaAdapter::~FrankaAdapter() { stop(); }
 
 Status FrankaAdapter::sensorPoseFromState(const std::array<double, 16>& O_T_EE, SE3d& X_ws) const {
-  realtime::SensorMount mount_mm;
-  mount_mm.R_es = options_.X_ee_s.rotationMatrix();
-  mount_mm.p_es = options_.X_ee_s.translation();
-  realtime::Matrix4 X_os;
-  Status s = franka_frames::sensorPoseFromColumnMajor(O_T_EE, mount_mm, 1e3, X_os);
+  SE3d T_oe;
+  const Status s = franka_frames::poseFromColumnMajor(O_T_EE, T_oe);  // the one parse
   if (s != Status::ok) return s;
-  SE3d X;
-  s = SE3d::fromMatrixProjected(X_os, X);
-  if (s != Status::ok) return s;
-  X_ws = options_.X_w_base * X;
+  X_ws = options_.X_w_base * realtime::sensorPose(T_oe, pipeline_options_.mount, kMmPerMetre);
   return Status::ok;
 }
 
@@ -155,8 +146,8 @@ void FrankaAdapter::velocityLoop() {
           const bool stopping = stop_requested_.load(std::memory_order_acquire);
           if (stopping) {
             (void)pipeline.stepStopping(out);
-          } else if (pipeline.step(franka_frames::homogeneous(state.O_T_EE), commands_, realtime::steadyNowNs(),
-                                   out) != Status::ok) {
+          } else if (SE3d T_oe; franka_frames::poseFromColumnMajor(state.O_T_EE, T_oe) != Status::ok ||
+                                pipeline.step(T_oe, commands_, realtime::steadyNowNs(), out) != Status::ok) {
             pipeline_errors_.fetch_add(1, std::memory_order_relaxed);
             (void)pipeline.stepStopping(out);  // latched: needs rearm()
           }
@@ -213,10 +204,6 @@ Status FrankaAdapter::moveTo(const SE3d& X_ws_goal) {
   po.watchdog.stop_on_contact_loss = false;
   realtime::CartesianVelocityPipeline pipeline;
   if (pipeline.configure(po) != Status::ok) return Status::invalid_argument;
-  realtime::SensorMount mount_mm;
-  mount_mm.R_es = options_.X_ee_s.rotationMatrix();
-  mount_mm.p_es = options_.X_ee_s.translation();
-
   const double gain = options_.move_gain, vmax = options_.move_speed_mm_s, wmax = options_.move_speed_rad_s;
   const double tol_p = options_.move_tolerance_mm, tol_r = options_.move_tolerance_rad;
   const double timeout = options_.move_timeout_s;
@@ -232,12 +219,11 @@ Status FrankaAdapter::moveTo(const SE3d& X_ws_goal) {
           if (period.toMSec() == 0) return franka::CartesianVelocities(out);
           t += period.toSec();
           // Body-frame error of the sensor, e = log(X_os⁻¹ X_os_goal) (eq. 18, eqn:local_tangent_space_error).
-          realtime::Matrix4 X_os_m;
-          SE3d X_os;
-          bool ok = franka_frames::sensorPoseFromColumnMajor(state.O_T_EE, mount_mm, 1e3, X_os_m) == Status::ok &&
-                    SE3d::fromMatrixProjected(X_os_m, X_os) == Status::ok;
+          SE3d T_oe;
+          bool ok = franka_frames::poseFromColumnMajor(state.O_T_EE, T_oe) == Status::ok;  // the one parse
           Twist e = Twist::Zero();
           if (ok) {
+            const SE3d X_os = realtime::sensorPose(T_oe, po.mount, kMmPerMetre);
             e = (X_os.inverse() * X_os_goal).log();
             ok = e.allFinite();
           }
@@ -258,7 +244,6 @@ Status FrankaAdapter::moveTo(const SE3d& X_ws_goal) {
           c.twist_s = toArray(u);
           c.in_contact = true;
           const std::int64_t now = realtime::steadyNowNs();
-          const realtime::Matrix4 T_oe = franka_frames::homogeneous(state.O_T_EE);
           if (pipeline.step(T_oe, c, ChannelStamp{++seq, now}, now, out) != Status::ok) {
             failed = true;
             (void)pipeline.stepStopping(out);

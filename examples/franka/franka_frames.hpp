@@ -1,9 +1,9 @@
 // franka_frames.hpp — libfranka's pose layout to the robot-agnostic real-time layer.
 //
-// libfranka's documented Cartesian limits, and its pose layout: libfranka gives the end-effector pose as RobotState::O_T_EE, a std::array<double, 16>
-// holding the homogeneous 4×4 T_OE column-major (element (r, c) at c*4 + r; metres). The
-// core (include/lieservo/realtime) takes an Eigen Matrix4; this header maps one to the other
-// and applies the core's checks. Header-only, Eigen + std only (no libfranka), so it is
+// libfranka's documented Cartesian limits, and its pose layout: libfranka gives the end-effector
+// pose as RobotState::O_T_EE, a std::array<double, 16> holding the homogeneous 4×4 T_OE
+// column-major (element (r, c) at c*4 + r; metres). poseFromColumnMajor is the one parse of it
+// into the SE3 that the core (include/lieservo/realtime) and the filter's side take. Header-only, Eigen + std only (no libfranka), so it is
 // tested in CI (tests/franka) where libfranka is not installed.
 #pragma once
 
@@ -15,10 +15,8 @@
 
 namespace lieservo::franka_frames {
 
-using realtime::Matrix3;
 using realtime::Matrix4;
 using realtime::SensorMount;
-using realtime::Vector3;
 using realtime::Vector6;
 
 /// libfranka's documented Cartesian limits for the end effector (m, rad, s): translation
@@ -43,16 +41,11 @@ inline std::array<double, 16> toColumnMajor(const Matrix4& M) noexcept {
   return a;
 }
 
-/// O_T_EE to a rotation and a translation, checked (realtime::poseFromHomogeneous).
-inline Status poseFromColumnMajor(const std::array<double, 16>& O_T_EE, Matrix3& R, Vector3& p,
+/// The one parse of O_T_EE: T_OE as an SE3 in metres, checked (realtime::poseFromHomogeneous);
+/// T_oe untouched unless ok.
+inline Status poseFromColumnMajor(const std::array<double, 16>& O_T_EE, SE3<double>& T_oe,
                                   double tol = realtime::kRotationTolerance) noexcept {
-  return realtime::poseFromHomogeneous(homogeneous(O_T_EE), R, p, tol);
-}
-
-/// X_OS = T_OE X_ES from O_T_EE (realtime::sensorPoseFromHomogeneous).
-inline Status sensorPoseFromColumnMajor(const std::array<double, 16>& O_T_EE, const SensorMount& mount,
-                                        double translation_scale, Matrix4& X_os) noexcept {
-  return realtime::sensorPoseFromHomogeneous(homogeneous(O_T_EE), mount, translation_scale, X_os);
+  return realtime::poseFromHomogeneous(homogeneous(O_T_EE), T_oe, tol);
 }
 
 }  // namespace lieservo::franka_frames

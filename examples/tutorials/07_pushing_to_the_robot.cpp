@@ -52,11 +52,7 @@ bool ok(Status s, const char* where) {
 }
 
 // X_OE in metres, as a robot reports it (the sensor is the end effector here: an identity mount).
-realtime::Matrix4 inMetres(const SE3d& X_ws) {
-  realtime::Matrix4 T = X_ws.matrix();
-  T.topRightCorner<3, 1>() *= 1e-3;
-  return T;
-}
+SE3d inMetres(const SE3d& X_ws) { return SE3d(X_ws.so3(), 1e-3 * X_ws.translation()); }
 
 // The robot executes a base twist [ṗ (m/s); ω (rad/s)]: the simulated sensor body takes it as a
 // body twist in mm/s and rad/s.

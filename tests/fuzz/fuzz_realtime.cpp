@@ -79,7 +79,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const std::int64_t near =
             std::int64_t(std::uint64_t(stamp.time_ns) + std::uint64_t(std::int64_t(b.i16()) * 1000));
         const std::int64_t now = (b.u8() & 1) ? near : anyTime(b);
-        s = p.step(pose(b), cmd, stamp, now, out);
+        // As an adapter: the one parse of the robot's pose, then the cycle (a refused pose
+        // leaves the pipeline as it was: the adapter then calls stepStopping).
+        SE3<double> T_OE;
+        s = poseFromHomogeneous(pose(b), T_OE);
+        if (s == Status::ok) s = p.step(T_OE, cmd, stamp, now, out);
         if (s == Status::ok && stamp.sequence != 0) {
           const double age = 1e-9 * std::abs(double(now) - double(stamp.time_ns));
           if (age > p.options().watchdog.command_timeout_s) LIESERVO_FUZZ_REQUIRE(!p.watchdog().passCommands());

@@ -13,6 +13,8 @@
 
 using lieservo::Status;
 using namespace lieservo::realtime;
+using SE3d = lieservo::SE3<double>;
+using SO3d = lieservo::SO3<double>;
 
 namespace {
 
@@ -26,17 +28,20 @@ struct FakeArm {
     const Vector3 w = x.tail<3>();
     if (w.norm() > 0) R = Eigen::AngleAxisd(dt * w.norm(), w.normalized()).toRotationMatrix() * R;
   }
-  Matrix4 T_OE() const {
+  // The pose as a robot reports it, through the one parse (as an adapter does each cycle).
+  SE3d T_OE() const {
     Matrix4 T = Matrix4::Identity();
     T.topLeftCorner<3, 3>() = R;
     T.topRightCorner<3, 1>() = p;
-    return T;
+    SE3d X;
+    REQUIRE(poseFromHomogeneous(T, X) == Status::ok);
+    return X;
   }
 };
 
 PipelineOptions options() {
   PipelineOptions o;
-  o.mount.p_es = Vector3(0, 0, 0.12);  // tip centre 120 mm below the flange
+  o.mount.X_es = SE3d(SO3d(), Vector3(0, 0, 0.12));  // tip centre 120 mm below the flange (m)
   o.watchdog.rearm_fresh_commands = 1;
   o.watchdog.command_timeout_s = 0.1;
   return o;
@@ -54,21 +59,18 @@ TEST_CASE("pipeline: rotating about the tip centre keeps the tip in place", "[re
   cmd.in_contact = true;
   std::array<double, 6> out{};
   rt_test::LimitChecker check{pipe.options().limits, 1e-3};
-  Matrix4 X0;
-  REQUIRE(sensorPoseFromHomogeneous(arm.T_OE(), pipe.options().mount, 1.0, X0) == Status::ok);
+  const Matrix4 X0 = sensorPose(arm.T_OE(), pipe.options().mount).matrix();
   std::uint64_t seq = 0;
   Matrix4 X_after_ramp;
   for (int k = 0; k < 2000; ++k) {
-    if (k == 200)
-      REQUIRE(sensorPoseFromHomogeneous(arm.T_OE(), pipe.options().mount, 1.0, X_after_ramp) == Status::ok);
+    if (k == 200) X_after_ramp = sensorPose(arm.T_OE(), pipe.options().mount).matrix();
     if (k % 33 == 0) ++seq;  // a fresh tactile command every 33 ms
     const ChannelStamp stamp{seq, static_cast<std::int64_t>((k - k % 33)) * ms};
     REQUIRE(pipe.step(arm.T_OE(), cmd, stamp, k * ms, out) == Status::ok);
     check.push(Eigen::Map<const Vector6>(out.data()));
     arm.integrate(out, 1e-3);
   }
-  Matrix4 X1;
-  REQUIRE(sensorPoseFromHomogeneous(arm.T_OE(), pipe.options().mount, 1.0, X1) == Status::ok);
+  const Matrix4 X1 = sensorPose(arm.T_OE(), pipe.options().mount).matrix();
   // The EE moved a lot, the tip centre hardly: smoothing happens at the EE (so the limits
   // hold on the robot's signal), with separate linear and angular ramps, so during the
   // ~40 ms start-up ramp the rotation is not exactly about the tip (documented); after it,
@@ -196,13 +198,15 @@ TEST_CASE("pipeline: bad pose or command -> Status, output and state unchanged, 
   }
   const auto v_before = pipe.smoother().velocity();
   const std::array<double, 6> out_before = out;
-  auto bad_pose = arm.T_OE();
+  // A pose that did not come through the parse (a non-orthonormal one is the parse's to refuse:
+  // test_frames).
+  Matrix4 bad_pose = arm.T_OE().matrix();
   bad_pose(0, 0) = std::numeric_limits<double>::quiet_NaN();
   const ChannelStamp s{200, 100000000LL};
-  CHECK(pipe.step(bad_pose, cmd, s, 100000000LL, out) == Status::non_finite_input);
-  bad_pose = arm.T_OE();
-  bad_pose(0, 0) = 2.0;
-  CHECK(pipe.step(bad_pose, cmd, s, 100000000LL, out) == Status::not_orthonormal);
+  CHECK(pipe.step(SE3d::fromMatrixUnchecked(bad_pose), cmd, s, 100000000LL, out) == Status::non_finite_input);
+  bad_pose = arm.T_OE().matrix();
+  bad_pose(1, 3) = std::numeric_limits<double>::infinity();
+  CHECK(pipe.step(SE3d::fromMatrixUnchecked(bad_pose), cmd, s, 100000000LL, out) == Status::non_finite_input);
   TwistCommand bad_cmd = cmd;
   bad_cmd.twist_s[2] = std::numeric_limits<double>::infinity();
   CHECK(pipe.step(arm.T_OE(), bad_cmd, s, 100000000LL, out) == Status::non_finite_input);
@@ -220,7 +224,9 @@ TEST_CASE("pipeline: bad pose or command -> Status, output and state unchanged, 
   CHECK(n < 2000);
 
   PipelineOptions o = options();
-  o.mount.R_es(0, 0) = 0.5;
+  Matrix4 skewed = o.mount.X_es.matrix();
+  skewed(0, 0) = 0.5;
+  o.mount.X_es = SE3d::fromMatrixUnchecked(skewed);
   CHECK(pipe.configure(o) == Status::not_orthonormal);
   for (const double period : {0.0, 2.0, 1e-7, std::numeric_limits<double>::max()}) {
     o = options();
@@ -230,5 +236,40 @@ TEST_CASE("pipeline: bad pose or command -> Status, output and state unchanged, 
   o = options();
   o.limits.translation.velocity = -1;
   CHECK(pipe.configure(o) == Status::invalid_argument);
-  CHECK(pipe.options().mount.p_es.z() == 0.12);  // unchanged
+  CHECK(pipe.options().mount.X_es.translation().z() == 0.12);  // unchanged
+}
+
+TEST_CASE("pipeline, smoother, watchdog: options refused at construction are kept until a configure() succeeds",
+          "[realtime][pipeline]") {
+  // The lifecycle the filter and the controllers share (lieservo/configurable.hpp).
+  SmootherLimits<double> bad_limits;
+  bad_limits.translation.velocity = -1;
+  VelocitySmoother<double> smoother(bad_limits);
+  CHECK(smoother.configurationStatus() == Status::invalid_argument);
+  CHECK(smoother.step(Vector6::Ones(), 1e-3) == Status::invalid_argument);
+  CHECK(smoother.atRest());
+  REQUIRE(smoother.configure(SmootherLimits<double>{}) == Status::ok);
+  CHECK(smoother.step(Vector6::Ones(), 1e-3) == Status::ok);
+
+  WatchdogOptions bad_watchdog;
+  bad_watchdog.command_timeout_s = std::numeric_limits<double>::quiet_NaN();
+  CommandWatchdog watchdog(bad_watchdog);
+  CHECK(watchdog.configurationStatus() == Status::non_finite_input);
+  CHECK(watchdog.step(1, 0.0, true) == Status::non_finite_input);
+  CHECK(watchdog.state() == WatchdogState::waiting);
+  REQUIRE(watchdog.configure(WatchdogOptions{}) == Status::ok);
+  CHECK(watchdog.step(1, 0.0, true) == Status::ok);
+
+  PipelineOptions bad = options();
+  bad.control_period_s = 0;
+  CartesianVelocityPipeline pipe(bad);
+  CHECK(pipe.configurationStatus() == Status::invalid_time_step);
+  TwistCommand cmd;
+  cmd.twist_s = {1, 0, 0, 0, 0, 0};
+  std::array<double, 6> out{};
+  CHECK(pipe.step(SE3d(), cmd, ChannelStamp{1, 0}, 0, out) == Status::invalid_time_step);
+  CHECK(out == std::array<double, 6>{});
+  REQUIRE(pipe.configure(options()) == Status::ok);
+  CHECK(pipe.configurationStatus() == Status::ok);
+  CHECK(pipe.step(SE3d(), cmd, ChannelStamp{1, 0}, 0, out) == Status::ok);
 }

@@ -61,7 +61,7 @@ Status FrameLoop::step(const Prediction& prediction) {
   for (int j = 0; j < 6; ++j) cmd.twist_s[std::size_t(j)] = twist[j];
   cmd.in_contact = true;
   const std::int64_t now = std::int64_t(frames) * 50000000;  // 20 Hz
-  return pipeline.step(Eigen::Matrix4d::Identity(), cmd, realtime::ChannelStamp{frames, now}, now, command);
+  return pipeline.step(SE3d(), cmd, realtime::ChannelStamp{frames, now}, now, command);
 }
 
 FrameTiming timeFrames(TactileFrame& frame, int frames) {

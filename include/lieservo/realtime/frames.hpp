@@ -19,12 +19,14 @@
 // enters, not p_OE. The mounting offset matters: rotating about the tip centre (as the servo
 // controllers ask) moves the EE origin by ω × (p_OE − p_OS).
 //
-// Units: rotations in radians. Translation units pass through unchanged; the library's
-// twists are in mm/s and poses in mm, a robot's often in m/s and m — scale by
-// `translation_scale` (e.g. 1e-3 for mm → m) where offered.
+// Types and units: poses are SE3 throughout. A robot's pose T_OE is parsed once, checked
+// (poseFromHomogeneous, or its adapter's parse of the robot library's layout), into an SE3 in
+// the robot's length unit (libfranka: metres). The mount X_ES is one object in that same unit
+// (SensorMount, built once from the library's mm with SensorMount::fromLibraryUnits). Rotations
+// in radians. The library's twists are in mm/s and poses in mm: the functions below take a
+// `translation_scale` for the one change of unit they make.
 //
-// The checks are the group classes' own (SO3::fromMatrix, SE3::fromMatrix); noexcept; no
-// allocation.
+// noexcept; no allocation.
 #pragma once
 
 #include <lieservo/groups/se3.hpp>
@@ -51,90 +53,67 @@ inline bool isRotation(const Matrix3& R, double tol = kRotationTolerance) noexce
   return SO3<double>::fromMatrix(R, C, tol) == Status::ok;
 }
 
-/// A homogeneous 4×4 pose T_OE (the robot's end effector in its base frame) to a rotation
-/// and a translation, checked by SE3::fromMatrix: non_finite_input, not_orthonormal (rotation
-/// block, tolerance `tol`), invalid_argument (bottom row not (0 0 0 1) within `tol`); outputs
-/// untouched unless ok. (A robot library's own layout, e.g. libfranka's column-major
-/// O_T_EE array, is mapped to a Matrix4 by its adapter: examples/franka/franka_frames.hpp.)
-inline Status poseFromHomogeneous(const Matrix4& T, Matrix3& R, Vector3& p, double tol = kRotationTolerance) noexcept {
-  SE3<double> X;
-  const Status s = SE3<double>::fromMatrix(T, X, tol);
-  if (s != Status::ok) return s;
-  R = X.rotationMatrix();
-  p = X.translation();
-  return Status::ok;
+/// The one parse of a robot-supplied pose: a homogeneous 4×4 T_OE (the robot's end effector in
+/// its base frame) to an SE3, checked by SE3::fromMatrix: non_finite_input, not_orthonormal
+/// (rotation block, tolerance `tol`), invalid_argument (bottom row not (0 0 0 1) within `tol`);
+/// X untouched unless ok. (A robot library's own layout, e.g. libfranka's column-major O_T_EE
+/// array, is mapped by its adapter: examples/franka/franka_frames.hpp.)
+inline Status poseFromHomogeneous(const Matrix4& T, SE3<double>& X, double tol = kRotationTolerance) noexcept {
+  return SE3<double>::fromMatrix(T, X, tol);
 }
 
-/// Rigid mounting of the sensor on the end effector: X_ES = (R_ES, p_ES).
+/// Rigid mounting of the sensor on the end effector: X_ES, the sensor frame in {E}, with its
+/// translation p_ES in the ROBOT's length unit, that of T_OE (metres for libfranka).
 struct SensorMount {
-  Matrix3 R_es = Matrix3::Identity();  ///< sensor axes in {E}
-  Vector3 p_es = Vector3::Zero();  ///< sensor origin in {E}, in the command's length unit
+  SE3<double> X_es{};  ///< X_ES = (R_ES, p_ES), p_ES in the robot's length unit
+
+  /// The mount from X_ES in the library's length unit (mm) and `to_robot`, the factor to the
+  /// robot's (mm → m: 1e-3).
+  static SensorMount fromLibraryUnits(const SE3<double>& X_es_library, double to_robot) noexcept {
+    return SensorMount{SE3<double>(X_es_library.so3(), to_robot * X_es_library.translation())};
+  }
 
   /// non_finite_input, not_orthonormal (isRotation with `tol`), or ok.
   Status validate(double tol = kRotationTolerance) const noexcept {
-    if (!R_es.allFinite() || !p_es.allFinite()) return Status::non_finite_input;
-    if (!isRotation(R_es, tol)) return Status::not_orthonormal;
+    if (!X_es.allFinite()) return Status::non_finite_input;
+    if (!isRotation(X_es.rotationMatrix(), tol)) return Status::not_orthonormal;
     return Status::ok;
   }
 };
 
 /// X_O'S = (R_OS, R_OE p_ES): the sensor pose from a frame at the EE origin with the base's
 /// orientation, whose adjoint maps the sensor's body twist to the base twist (file comment).
-inline SE3<double> eeOriginToSensor(const Matrix3& R_oe, const SensorMount& mount) noexcept {
-  return SE3<double>(SO3<double>::fromMatrixUnchecked(R_oe * mount.R_es), R_oe * mount.p_es);
+inline SE3<double> eeOriginToSensor(const SE3<double>& T_oe, const SensorMount& mount) noexcept {
+  return SE3<double>(T_oe.so3() * mount.X_es.so3(), T_oe.so3() * mount.X_es.translation());
 }
 
 /// Sensor body twist ξ_s = [v_s; ω_s] → base twist [ṗ_OE; ω_O] = Ad(X_O'S) ξ_s, the EE-origin
-/// velocity and the angular velocity in base coordinates, given R_OE and the mount. The
-/// translation of ξ_s is multiplied by `translation_scale` first (mm → m: 1e-3); p_ES must
-/// be in the OUTPUT length unit. Unchecked (see sensorTwistToBaseChecked).
-inline Vector6 sensorTwistToBase(const Matrix3& R_oe, const SensorMount& mount, const Vector6& xi_s,
+/// velocity and the angular velocity in base coordinates, given the EE pose T_OE (only its
+/// rotation enters) and the mount. The translation of ξ_s is multiplied by
+/// `translation_scale` first (library mm → robot m: 1e-3). Unchecked: T_OE and the mount come
+/// checked from their parse and validate(); the pipeline checks the twist.
+inline Vector6 sensorTwistToBase(const SE3<double>& T_oe, const SensorMount& mount, const Vector6& xi_s,
                                  double translation_scale = 1.0) noexcept {
   Vector6 xi = xi_s;
   xi.head<3>() *= translation_scale;
-  return eeOriginToSensor(R_oe, mount).Ad() * xi;
+  return eeOriginToSensor(T_oe, mount).Ad() * xi;
 }
 
 /// Inverse of sensorTwistToBase: a base twist [ṗ_OE; ω_O] (e.g. the robot's last command) →
-/// ξ_s = Ad(X_O'S)⁻¹ [ṗ_OE; ω_O] = Ad(X_O'S⁻¹) [ṗ_OE; ω_O], with the translation divided by
-/// `translation_scale` at the end (m → mm: 1e-3).
-inline Vector6 baseTwistToSensor(const Matrix3& R_oe, const SensorMount& mount, const Vector6& v_base,
+/// ξ_s = Ad(X_O'S⁻¹) [ṗ_OE; ω_O], with the translation divided by `translation_scale` at the
+/// end (robot m → library mm: 1e-3).
+inline Vector6 baseTwistToSensor(const SE3<double>& T_oe, const SensorMount& mount, const Vector6& v_base,
                                  double translation_scale = 1.0) noexcept {
-  Vector6 out = eeOriginToSensor(R_oe, mount).inverse().Ad() * v_base;
+  Vector6 out = eeOriginToSensor(T_oe, mount).inverse().Ad() * v_base;
   out.head<3>() /= translation_scale;
   return out;
 }
 
-/// Checked conversion with the EE pose T_OE: Status from poseFromHomogeneous or
-/// non_finite_input for ξ_s / invalid_argument for a non-positive scale; `out` untouched
-/// unless ok. The mount is assumed validated (SensorMount::validate) by the caller.
-inline Status sensorTwistToBaseChecked(const Matrix4& T_oe, const SensorMount& mount, const Vector6& xi_s,
-                                       double translation_scale, Vector6& out) noexcept {
-  if (!xi_s.allFinite() || !std::isfinite(translation_scale)) return Status::non_finite_input;
-  if (!(translation_scale > 0)) return Status::invalid_argument;
-  Matrix3 R;
-  Vector3 p;
-  const Status s = poseFromHomogeneous(T_oe, R, p);
-  if (s != Status::ok) return s;
-  out = sensorTwistToBase(R, mount, xi_s, translation_scale);
-  return Status::ok;
-}
-
-/// Sensor pose in the base frame from the EE pose T_OE and the mount: X_OS = T_OE X_ES,
-/// with the EE translation multiplied by `translation_scale` (m → mm: 1e3) and p_ES in the
-/// output unit. Checked like poseFromHomogeneous; X_os untouched unless ok.
-inline Status sensorPoseFromHomogeneous(const Matrix4& T_oe, const SensorMount& mount, double translation_scale,
-                                        Matrix4& X_os) noexcept {
-  if (!std::isfinite(translation_scale)) return Status::non_finite_input;
-  if (!(translation_scale > 0)) return Status::invalid_argument;
-  Matrix3 R;
-  Vector3 p;
-  const Status s = poseFromHomogeneous(T_oe, R, p);
-  if (s != Status::ok) return s;
-  const SE3<double> X_oe(SO3<double>::fromMatrixUnchecked(R), translation_scale * p);  // checked above
-  const SE3<double> X_es(SO3<double>::fromMatrixUnchecked(mount.R_es), mount.p_es);
-  X_os = (X_oe * X_es).matrix();
-  return Status::ok;
+/// The sensor's pose in the base frame, X_OS = T_OE X_ES, with its translation multiplied by
+/// `translation_scale` (robot m → library mm: 1e3).
+inline SE3<double> sensorPose(const SE3<double>& T_oe, const SensorMount& mount, double translation_scale = 1.0) noexcept {
+  const SE3<double> X_os = T_oe * mount.X_es;
+  return SE3<double>(X_os.so3(), translation_scale * X_os.translation());
 }
 
 }  // namespace lieservo::realtime

@@ -13,6 +13,7 @@
 // tests/realtime drives it at 1 kHz from a second thread.
 #pragma once
 
+#include <lieservo/configurable.hpp>
 #include <lieservo/realtime/frames.hpp>
 #include <lieservo/realtime/latest_value_channel.hpp>
 #include <lieservo/realtime/velocity_smoother.hpp>
@@ -35,7 +36,7 @@ struct TwistCommand {
 struct PipelineOptions {
   SmootherLimits<double> limits{};   ///< base-frame limits, SI (m, rad); must be valid
   WatchdogOptions watchdog{};  ///< when commands may pass
-  SensorMount mount{};               ///< X_ES with p_ES in METRES
+  SensorMount mount{};               ///< X_ES in the robot's length unit (metres: SensorMount::fromLibraryUnits)
   double twist_to_metres = 1e-3;     ///< command translation unit → m (library mm → 1e-3)
   double control_period_s = 1e-3;    ///< the robot's command period (libfranka: 1 ms)
 
@@ -55,35 +56,33 @@ struct PipelineOptions {
 
 /// The body of a 1 kHz Cartesian velocity callback: watchdog, sensor-to-base twist,
 /// jerk-limited smoothing in the base frame (the header comment gives the steps).
-class CartesianVelocityPipeline {
+class CartesianVelocityPipeline : public Configurable<CartesianVelocityPipeline> {
  public:
-  CartesianVelocityPipeline() noexcept { (void)configure(PipelineOptions{}); }
+  using Options = PipelineOptions;  ///< limits, watchdog, mount, units, period
 
-  /// Validate (PipelineOptions::validate) and apply options; resets the smoother (to rest)
-  /// and the watchdog. Not real-time safe to call while the loop runs (call it before starting
-  /// the loop). Invalid options: the Status says why and nothing changes.
-  Status configure(const PipelineOptions& o) noexcept {
-    if (const Status s = o.validate(); s != Status::ok) return s;
-    options_ = o;
-    (void)smoother_.configure(o.limits);
-    smoother_.reset();
-    (void)watchdog_.configure(o.watchdog);
-    return Status::ok;
-  }
+  CartesianVelocityPipeline() noexcept { (void)configure(Options{}); }
+  /// Under `options`; invalid ones are kept as configurationStatus(), which step() returns
+  /// until a configure() succeeds (Configurable).
+  explicit CartesianVelocityPipeline(const Options& options) noexcept { configureOnConstruction(options); }
+
+  /// The options' whole check (PipelineOptions::validate).
+  static Status validate(const Options& o) noexcept { return o.validate(); }
+  /// Validate and apply options; resets the smoother (to rest) and the watchdog. Not real-time
+  /// safe to call while the loop runs (call it before starting the loop). Invalid options: the
+  /// Status says why and nothing changes.
+  Status configure(const Options& o) noexcept { return configureChecked(o); }
   const PipelineOptions& options() const noexcept { return options_; }  ///< the options in force
 
-  /// One control cycle. `T_OE`: the robot's current EE pose (homogeneous, metres);
-  /// `cmd`/`stamp`: the latest command from the channel (stamp.sequence == 0: none yet);
-  /// `now_ns`: the same clock as the stamps. On success writes the command to `base_twist`.
-  /// Errors (state and output unchanged): a bad pose (poseFromHomogeneous's Status), a
-  /// non-finite twist in an accepted command (non_finite_input). On an error the caller
-  /// should call stepStopping() for this cycle instead.
-  Status step(const Matrix4& T_OE, const TwistCommand& cmd, const ChannelStamp& stamp, std::int64_t now_ns,
+  /// One control cycle. `T_OE`: the robot's current EE pose in metres, as its one parse gave it
+  /// (poseFromHomogeneous, or the adapter's); `cmd`/`stamp`: the latest command from the
+  /// channel (stamp.sequence == 0: none yet); `now_ns`: the same clock as the stamps. On
+  /// success writes the command to `base_twist`. Errors (state and output unchanged): a
+  /// non-finite pose or a non-finite twist in an accepted command (non_finite_input). On an
+  /// error the caller should call stepStopping() for this cycle instead.
+  Status step(const SE3<double>& T_OE, const TwistCommand& cmd, const ChannelStamp& stamp, std::int64_t now_ns,
               std::array<double, 6>& base_twist) noexcept {
-    Matrix3 R;
-    Vector3 p;
-    const Status ps = poseFromHomogeneous(T_OE, R, p);
-    if (ps != Status::ok) return ps;
+    if (const Status c = configurationStatus(); c != Status::ok) return c;
+    if (!T_OE.allFinite()) return Status::non_finite_input;
     const Eigen::Map<const Vector6> xi(cmd.twist_s.data());
     if (stamp.sequence != 0 && !xi.allFinite()) return Status::non_finite_input;
 
@@ -96,12 +95,12 @@ class CartesianVelocityPipeline {
     if (ws != Status::ok) return ws;
 
     Vector6 target = Vector6::Zero();
-    if (watchdog_.passCommands()) target = sensorTwistToBase(R, options_.mount, xi, options_.twist_to_metres);
+    if (watchdog_.passCommands()) target = sensorTwistToBase(T_OE, options_.mount, xi, options_.twist_to_metres);
     return advance(target, base_twist);
   }
 
   /// Convenience: read the newest command from `channel` and step().
-  Status step(const Matrix4& T_OE, LatestValueChannel<TwistCommand>& channel, std::int64_t now_ns,
+  Status step(const SE3<double>& T_OE, LatestValueChannel<TwistCommand>& channel, std::int64_t now_ns,
               std::array<double, 6>& base_twist) noexcept {
     TwistCommand cmd;
     ChannelStamp stamp;
@@ -135,6 +134,15 @@ class CartesianVelocityPipeline {
   const CommandWatchdog& watchdog() const noexcept { return watchdog_; }  ///< the command watchdog
 
  private:
+  friend class Configurable<CartesianVelocityPipeline>;
+  Status apply(const Options& o) noexcept {  // validated (Configurable)
+    options_ = o;
+    (void)smoother_.configure(o.limits);  // validated with o
+    smoother_.reset();
+    (void)watchdog_.configure(o.watchdog);  // validated with o
+    return Status::ok;
+  }
+
   Status advance(const Vector6& target, std::array<double, 6>& out) noexcept {
     const Status s = smoother_.step(target, options_.control_period_s);
     if (s != Status::ok) return s;

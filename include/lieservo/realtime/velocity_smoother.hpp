@@ -39,6 +39,7 @@
 // Real-time contract: noexcept, no allocation, Status on bad input with state unchanged.
 #pragma once
 
+#include <lieservo/configurable.hpp>
 #include <lieservo/status.hpp>
 
 #include <Eigen/Core>
@@ -241,27 +242,28 @@ class NormLimiter3 {
 /// Jerk-limited smoother of a 6-D twist [v; ω] (translation first), stepped at the robot
 /// command rate (1 kHz on a Franka). Unit-agnostic: the limits are in the twist's units.
 template <typename Scalar = double>
-class VelocitySmoother {
+class VelocitySmoother : public Configurable<VelocitySmoother<Scalar>> {
  public:
   using Twist = Eigen::Matrix<Scalar, 6, 1>;  ///< [v; ω]
   using Vec3 = Eigen::Matrix<Scalar, 3, 1>;  ///< one part of a twist
   using Limits = SmootherLimits<Scalar>;  ///< velocity, acceleration and jerk limits of both parts
 
-  VelocitySmoother() noexcept { reset(); }
-
   using Options = Limits;  ///< the smoother's options are its limits
+
+  VelocitySmoother() noexcept { reset(); }
+  /// At rest with `limits`; invalid ones are kept as configurationStatus(), which step()
+  /// returns until a configure() succeeds (Configurable).
+  explicit VelocitySmoother(const Options& limits) noexcept {
+    reset();
+    this->configureOnConstruction(limits);
+  }
 
   /// The limits' own check (SmootherLimits::validate).
   static Status validate(const Options& limits) noexcept { return limits.validate(); }
   /// Set the limits; invalid → validate()'s Status, the smoother unchanged. Lowering limits
   /// while moving is allowed, but the bounds are then only guaranteed once the state has come
   /// back inside the new limits (reset() first to be safe).
-  Status configure(const Options& limits) noexcept {
-    const Status s = validate(limits);
-    if (s != Status::ok) return s;
-    limits_ = limits;
-    return Status::ok;
-  }
+  Status configure(const Options& limits) noexcept { return this->configureChecked(limits); }
   const Options& options() const noexcept { return limits_; }  ///< the limits in force
   const Limits& limits() const noexcept { return limits_; }  ///< the limits in force (as options())
 
@@ -290,8 +292,10 @@ class VelocitySmoother {
   static bool validStep(Scalar dt) noexcept { return dt >= Scalar(1e-6) && dt <= Scalar(1); }
 
   /// One step of length dt (s) towards `target`. dt not validStep → invalid_time_step;
-  /// non-finite target → non_finite_input; state unchanged in both cases.
+  /// non-finite target → non_finite_input; refused limits → configurationStatus(); state
+  /// unchanged in all three cases.
   Status step(const Twist& target, Scalar dt) noexcept {
+    if (const Status c = this->configurationStatus(); c != Status::ok) return c;
     if (!validStep(dt)) return Status::invalid_time_step;
     if (!target.allFinite()) return Status::non_finite_input;
     lin_.step(target.template head<3>(), limits_.translation, dt);
@@ -333,6 +337,11 @@ class VelocitySmoother {
   }
 
  private:
+  friend class Configurable<VelocitySmoother>;
+  Status apply(const Options& limits) noexcept {  // validated (Configurable)
+    limits_ = limits;
+    return Status::ok;
+  }
   // Within the limits, and the full-jerk braking from (v, a) ends inside the velocity ball.
   static bool inside(const Vec3& v, const Vec3& a, const AxisLimits<Scalar>& lim) noexcept {
     if (v.norm() > lim.velocity || a.norm() > lim.acceleration) return false;

@@ -27,6 +27,7 @@
 // the state unchanged on bad input.
 #pragma once
 
+#include <lieservo/configurable.hpp>
 #include <lieservo/status.hpp>
 
 #include <cmath>
@@ -73,17 +74,19 @@ constexpr const char* describe(WatchdogState s) noexcept {
 
 /// Decides every control cycle whether the latest tactile command may pass (the header
 /// comment gives the states and the policy).
-class CommandWatchdog {
+class CommandWatchdog : public Configurable<CommandWatchdog> {
  public:
-  CommandWatchdog() noexcept = default;
+  using Options = WatchdogOptions;  ///< when commands may pass
 
-  /// Invalid options → WatchdogOptions::validate()'s Status (unchanged). Resets to `waiting`.
-  Status configure(const WatchdogOptions& options) noexcept {
-    if (const Status s = options.validate(); s != Status::ok) return s;
-    options_ = options;
-    rearm();
-    return Status::ok;
-  }
+  CommandWatchdog() noexcept = default;
+  /// `waiting` under `options`; invalid ones are kept as configurationStatus(), which step()
+  /// returns until a configure() succeeds (Configurable).
+  explicit CommandWatchdog(const Options& options) noexcept { configureOnConstruction(options); }
+
+  /// The options' own check (WatchdogOptions::validate).
+  static Status validate(const Options& options) noexcept { return options.validate(); }
+  /// Invalid options → validate()'s Status (unchanged). Resets to `waiting`.
+  Status configure(const Options& options) noexcept { return configureChecked(options); }
   const WatchdogOptions& options() const noexcept { return options_; }  ///< the options in force
 
   /// One control cycle. `sequence`: the latest command's sequence number (0 = none yet);
@@ -91,6 +94,7 @@ class CommandWatchdog {
   /// contact flag it carried. Non-finite age → non_finite_input; negative age →
   /// invalid_argument; state unchanged in both cases.
   Status step(std::uint64_t sequence, double age_s, bool in_contact) noexcept {
+    if (const Status c = configurationStatus(); c != Status::ok) return c;
     if (sequence != 0) {
       if (!std::isfinite(age_s)) return Status::non_finite_input;
       if (age_s < 0) return Status::invalid_argument;
@@ -142,6 +146,12 @@ class CommandWatchdog {
   std::uint64_t tripCount() const noexcept { return trips_; }
 
  private:
+  friend class Configurable<CommandWatchdog>;
+  Status apply(const Options& options) noexcept {  // validated (Configurable)
+    options_ = options;
+    rearm();
+    return Status::ok;
+  }
   void enterTripped(WatchdogState s) noexcept {
     if (state_ != s) ++trips_;
     state_ = s;
