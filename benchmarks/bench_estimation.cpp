@@ -143,7 +143,7 @@ void BM_PushingStep(benchmark::State& state) {
   auto opt = lieservo::pushingPreset<Scalar>();
   typename G::Vector3 target(Scalar(0), Scalar(0), Scalar(375));  // the paper's target: far away
   opt.target = G(typename G::SO3Type(), target);
-  lieservo::PushingController<Scalar> push(opt);
+  lieservo::PushingController<lieservo::SE3<Scalar>> push(opt);
   typename G::Tangent u;
   const Scalar dt = Scalar(0.05);
   std::size_t i = 0;

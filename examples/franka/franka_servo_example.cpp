@@ -141,13 +141,13 @@ std::string tactileLoop(const Args& a, FrankaAdapter& robot, TactileFrontEnd& se
   if (a.task == "push") {
     SE3d X_ws;
     if (robot.readPose(X_ws) != Status::ok) return "cannot read the robot pose: " + robot.lastError();
-    lieservo::TactileLoop<lieservo::PushingController<double>>::Options o;
+    lieservo::TactileLoop<lieservo::PushingController<lieservo::SE3d>>::Options o;
     o.controller = lieservo::pushingPreset<double>(lieservo::PushingConfiguration::single_arm);
     // Target at the sensor's current height (work x), paper (y, z) = (0, 375) mm.
     Eigen::Vector3d p(X_ws.translation().x(), a.target[1], a.target[2]);
     if (a.target[0] != 0) p.x() = a.target[0];
     o.controller.target = SE3d(lieservo::SO3<double>::identity(), p);
-    lieservo::TactileLoop<lieservo::PushingController<double>> loop(o);
+    lieservo::TactileLoop<lieservo::PushingController<lieservo::SE3d>> loop(o);
     if (loop.configurationStatus() != Status::ok) return std::string("pushing: ") + lieservo::describe(loop.configurationStatus());
     return lieservo::franka_example::runTactileLoop(runSettings(a), robot, sensor, loop, quit);
   }

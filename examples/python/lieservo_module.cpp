@@ -531,7 +531,7 @@ void bindControl(py::module_& m) {
         py::arg("heading"), py::arg("speed") = paper::kSurfaceFollowingSpeed,
         "u_s'2 = (speed cos θ, speed sin θ, 0, 0, 0, 0) for a heading θ (rad), speed in mm/s.");
 
-  using Push = PushingController<double>;
+  using Push = PushingController<SE3d>;
   py::class_<Push>(m, "PushingController", "Tactile pushing towards a target (Section 3.3.3, sec:pushing_controller, Table 8).")
       .def(py::init([](const std::string& configuration, const SE3d& target, double control_period) {
              PushingConfiguration k;
@@ -565,7 +565,7 @@ void bindControl(py::module_& m) {
       .def_property_readonly("bearing", &Push::bearing, "Target bearing (rad) of the last step.")
       .def_property_readonly("distance", &Push::distance, "Target distance (mm) of the last step.");
 
-  using Dual = DualArmPushing<double>;
+  using Dual = DualArmPushing<SE3d>;
   py::class_<Dual>(m, "DualArmPushing",
                    "Leader pushing (Table 8) and follower stabiliser (Table 9), each with its own filter.")
       .def(py::init([](bool tall_object, const SE3d& target, double control_period) {
@@ -601,7 +601,7 @@ void bindControl(py::module_& m) {
       .def("reset", &Dual::reset);
 
   bindLoop<TactileServoController<SE3d>>(m, "TactileLoop", "TactileServoController");
-  bindLoop<PushingController<double>>(m, "PushingLoop", "PushingController");
+  bindLoop<PushingController<SE3d>>(m, "PushingLoop", "PushingController");
 }
 
 }  // namespace

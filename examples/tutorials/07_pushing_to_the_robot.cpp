@@ -91,13 +91,13 @@ int main() {
   // 2. The tactile loop: the paper's filter with the χ² gate on, and the paper's single-arm
   //    pushing controller (Tables 7-8) aimed at the target, stepped together by one class (the
   //    same class the simulated tasks and the Franka program step; docs/control.md, section 8).
-  TactileLoop<PushingController<double>>::Options loop_options;
+  TactileLoop<PushingController<SE3d>>::Options loop_options;
   loop_options.filter.gating = true;  // reject an observation whose NIS is above χ²(6) at 0.999
   loop_options.controller = pushingPreset<double>(PushingConfiguration::single_arm);
   loop_options.controller.target = SE3d(SO3d::identity(), target);
-  TactileLoop<PushingController<double>> loop(loop_options);
+  TactileLoop<PushingController<SE3d>> loop(loop_options);
   if (!ok(loop.configurationStatus(), "tactile loop")) return 1;
-  const PushingController<double>& pusher = loop.controller();
+  const PushingController<SE3d>& pusher = loop.controller();
 
   // 3. The real-time side: the channel that hands twists to the robot loop, and the pipeline
   //    (watchdog + base-frame conversion + jerk-limited smoother) that the robot loop runs.

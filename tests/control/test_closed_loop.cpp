@@ -84,10 +84,10 @@ LoopResult runServo(const Servo::Options& o, Plant plant, double rate, double du
              delta_override);
 }
 
-LoopResult runPush(const PushingController<double>::Options& o, double rate, double duration) {
+LoopResult runPush(const PushingController<SE3d>::Options& o, double rate, double duration) {
   auto opts = o;
   opts.target = G(SO3<double>(), Eigen::Vector3d(0, 0, 1e5));  // far ahead: bearing ≈ 0
-  PushingController<double> push(opts);
+  PushingController<SE3d> push(opts);
   return run(o.servo.pid.kp.diagonal(), o.servo.reference, Plant::pushed_face, rate, duration,
              [&](const G& X_sf, const G& X_ws, double dt, V6& u) { return push.step(X_ws, X_sf, dt, u); });
 }

@@ -16,7 +16,7 @@ using G = SE3<double>;
 using V6 = G::Tangent;
 using M6 = G::Jacobian;
 using Filter = DiscriminativeBayesFilter<G>;
-using Dual = DualArmPushing<double>;
+using Dual = DualArmPushing<SE3d>;
 
 namespace {
 using lieservo::test::v6;
@@ -79,7 +79,7 @@ TEST_CASE("dual arm: equals two hand-wired filter + controller pairs", "[control
   Dual dual(o, Filter(), Filter());
   REQUIRE(dual.configurationStatus() == Status::ok);
   Filter fL, fF;
-  PushingController<double> leader(o.leader);
+  PushingController<SE3d> leader(o.leader);
   TactileServoController<G> follower(o.follower);
   Scene scene(o);
   const double dt = 1.0 / 30.0;
@@ -195,7 +195,7 @@ TEST_CASE("dual arm: failures leave filters, controllers and outputs unchanged",
 #include <lieservo/control/centralised_dual_arm.hpp>
 
 namespace {
-using Central = CentralisedDualArmPushing<double>;
+using Central = CentralisedDualArmPushing<SE3d>;
 
 // The expected centralised feedforward, written out from the header's formulas.
 V6 expectedFeedforward(const G& X_wL, const G& X_wF, const V6& uL, double k, double vmax) {

@@ -70,14 +70,14 @@ TEST_CASE("no allocation per step: pushing and dual-arm pushing with filters", "
   const int steps = 3000;
   auto po = pushingPreset<double>(PushingConfiguration::single_arm);
   po.target = G(SO3<double>(), Eigen::Vector3d(0, 200, 600));
-  PushingController<double> push(po);
+  PushingController<SE3d> push(po);
   auto dopts = dualArmPushingPreset<double>(true);
   dopts.leader.target = G(SO3<double>(), Eigen::Vector3d(0, 100, 1e4));
-  DualArmPushing<double> dual(dopts, DiscriminativeBayesFilter<G>(), DiscriminativeBayesFilter<G>());
+  DualArmPushing<SE3d> dual(dopts, DiscriminativeBayesFilter<G>(), DiscriminativeBayesFilter<G>());
   auto copts = centralisedDualArmPushingPreset<double>(true);
   copts.arms = dopts;
   copts.opposition_gain = 100;  // the opposition term runs too (the presets leave it at 0)
-  CentralisedDualArmPushing<double> central(copts, DiscriminativeBayesFilter<G>(), DiscriminativeBayesFilter<G>());
+  CentralisedDualArmPushing<SE3d> central(copts, DiscriminativeBayesFilter<G>(), DiscriminativeBayesFilter<G>());
   const G X_ofF(SO3<double>::fromEulerXYZ(pi<double>(), 0, 0), Eigen::Vector3d(0, 0, 60));
   G X_wsL = dopts.leader.servo.reference, X_wsF = X_ofF * dopts.follower.reference, X_wo;
   G::Jacobian cov = G::Jacobian::Identity() * 0.01;
@@ -92,9 +92,9 @@ TEST_CASE("no allocation per step: pushing and dual-arm pushing with filters", "
       // pushing: alternate far (alignment active) and near (cut-off) geometries
       const G X_ws = G(SO3<double>(), Eigen::Vector3d(0, 0, (k % 2) ? 0.0 : 550.0));
       failures += push.step(X_ws, G::exp(n) * po.servo.reference.inverse(), 0.02, u) != Status::ok;
-      DualArmPushing<double>::ArmInput inL{X_wsL, {G::exp(n) * X_wsL.inverse() * X_wo, cov}};
-      DualArmPushing<double>::ArmInput inF{X_wsF, {G::exp(-n) * X_wsF.inverse() * X_wo * X_ofF, cov}};
-      DualArmPushing<double>::ArmOutput outL, outF;
+      DualArmPushing<SE3d>::ArmInput inL{X_wsL, {G::exp(n) * X_wsL.inverse() * X_wo, cov}};
+      DualArmPushing<SE3d>::ArmInput inF{X_wsF, {G::exp(-n) * X_wsF.inverse() * X_wo * X_ofF, cov}};
+      DualArmPushing<SE3d>::ArmOutput outL, outF;
       failures += dual.step(inL, inF, 0.02, outL, outF) != Status::ok;
       failures += central.step(inL, inF, 0.02, outL, outF) != Status::ok;
       X_wsL = X_wsL * G::exp(0.02 * outL.velocity);
@@ -116,11 +116,11 @@ TEST_CASE("no allocation per step: pushing and dual-arm pushing with filters", "
 }
 
 TEST_CASE("no allocation per step: the tactile loop, commanded, gated and refused", "[control][alloc][loop]") {
-  TactileLoop<PushingController<double>>::Options o;
+  TactileLoop<PushingController<SE3d>>::Options o;
   o.filter.gating = true;
   o.controller = pushingPreset<double>(PushingConfiguration::single_arm);
   o.controller.target = G(SO3<double>(), Eigen::Vector3d(0, 200, 600));
-  TactileLoop<PushingController<double>> loop(o);
+  TactileLoop<PushingController<SE3d>> loop(o);
   TactileLoop<TactileServoController<G>> servo_loop({{}, surfaceFollowingPreset<double>()});
   ConcentratedGaussian<G> obs(o.controller.servo.reference.inverse(), G::Jacobian::Identity() * 0.01);
   int failures = 0, gated = 0;

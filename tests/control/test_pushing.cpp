@@ -16,7 +16,7 @@
 using namespace lieservo;
 using G = SE3<double>;
 using V6 = G::Tangent;
-using Push = PushingController<double>;
+using Push = PushingController<SE3d>;
 using Eigen::Vector3d;
 
 namespace {

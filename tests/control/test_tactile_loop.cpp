@@ -25,7 +25,7 @@ using V6 = G::Tangent;
 using Gaussian = ConcentratedGaussian<G>;
 using Filter = DiscriminativeBayesFilter<G>;
 using ServoLoop = TactileLoop<TactileServoController<G>>;
-using PushLoop = TactileLoop<PushingController<double>>;
+using PushLoop = TactileLoop<PushingController<SE3d>>;
 
 static_assert(noexcept(std::declval<ServoLoop&>().step(std::declval<const G&>(), std::declval<const Gaussian&>(), 0.05,
                                                        std::declval<V6&>())));
@@ -108,7 +108,7 @@ TEST_CASE("tactile loop: pushing equals the hand-wired pair and ends terminated"
   o.controller.target = G(SO3<double>(), Eigen::Vector3d(60, 0, 3));  // reached as the sensor moves
   PushLoop loop(o);
   Filter filter(o.filter);
-  PushingController<double> push(o.controller);
+  PushingController<SE3d> push(o.controller);
   Frames frames;
   bool terminated = false;
   for (int k = 0; k < 200 && !terminated; ++k) {

@@ -360,7 +360,7 @@ DualOutcome dualLoop(mujoco::World& world, const ContactParams& contact_params, 
   DualOutcome out;
   auto options = lieservo::dualArmPushingPreset<double>(false);
   options.leader.target = SE3d(SO3d::identity(), kTarget);
-  lieservo::DualArmPushing<double> dual(options, lieservo::DiscriminativeBayesFilter<SE3d>(),
+  lieservo::DualArmPushing<lieservo::SE3d> dual(options, lieservo::DiscriminativeBayesFilter<SE3d>(),
                                         lieservo::DiscriminativeBayesFilter<SE3d>());
   REQUIRE(dual.configurationStatus() == Status::ok);
   ContactModel contact[2] = {ContactModel(contact_params), ContactModel(contact_params)};
@@ -373,7 +373,7 @@ DualOutcome dualLoop(mujoco::World& world, const ContactParams& contact_params, 
   };
   long lost = 0, gaps = 0;  // gaps: per-arm samples, both arms counted
   for (long k = 0; k * kDt < timeout; ++k) {
-    lieservo::DualArmPushing<double>::ArmInput in[2];
+    lieservo::DualArmPushing<lieservo::SE3d>::ArmInput in[2];
     ContactState state[2];
     for (int a = 0; a < 2; ++a) {
       if (const Status s = pose(a, in[a].sensor_pose); s != Status::ok) return fail(s, "pose");
@@ -390,7 +390,7 @@ DualOutcome dualLoop(mujoco::World& world, const ContactParams& contact_params, 
       out.min_opposition = std::min(
           out.min_opposition,
           std::acos(std::clamp(state[0].normal_w.dot(state[1].normal_w), -1.0, 1.0)) * 180 / lieservo::pi<double>());
-    lieservo::DualArmPushing<double>::ArmOutput u[2];
+    lieservo::DualArmPushing<lieservo::SE3d>::ArmOutput u[2];
     if (const Status s = dual.step(in[0], in[1], kDt, u[0], u[1]); s != Status::ok) return fail(s, "controller");
     out.time = double(k) * kDt;
     if (dual.terminated()) {
@@ -451,7 +451,7 @@ struct Following {
 
 /// Single-arm pushing: Table 8's controller towards kTarget; the trial ends when it terminates.
 struct Pushing {
-  using Loop = lieservo::TactileLoop<lieservo::PushingController<double>>;
+  using Loop = lieservo::TactileLoop<lieservo::PushingController<lieservo::SE3d>>;
   Loop loop;
   Pushing() {
     Loop::Options o;

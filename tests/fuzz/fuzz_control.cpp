@@ -80,11 +80,11 @@ void servo(Bytes& b) {
 }
 
 void pushing(Bytes& b) {
-  PushingController<double>::Options o = pushingPreset<double>(PushingConfiguration::single_arm);
+  PushingController<SE3d>::Options o = pushingPreset<double>(PushingConfiguration::single_arm);
   if (b.u8() & 1) o.alignment_cutoff = b.value();
   if (b.u8() & 1) o.termination_radius = b.value();
   if (b.u8() & 1) o.target = fuzz::groupElement<G>(b);
-  PushingController<double> c(o);
+  PushingController<SE3d> c(o);
   for (int op = 0; op < 64 && !b.empty(); ++op) {
     const G target_before = c.options().target;
     const bool terminated_before = c.terminated();

@@ -80,12 +80,12 @@ class PushControl {
     if (dual_arm_ && centralised_) {
       auto o = lieservo::centralisedDualArmPushingPreset<double>(setup.tall);
       o.arms.leader.target = X_wt;
-      central_ = lieservo::CentralisedDualArmPushing<double>(o, Filter(), Filter());
+      central_ = lieservo::CentralisedDualArmPushing<lieservo::SE3d>(o, Filter(), Filter());
       if (central_.configurationStatus() != Status::ok) throw SceneError("centralised dual-arm preset rejected");
     } else if (dual_arm_) {
       auto o = lieservo::dualArmPushingPreset<double>(setup.tall);
       o.leader.target = X_wt;
-      dual_ = lieservo::DualArmPushing<double>(o, Filter(), Filter());
+      dual_ = lieservo::DualArmPushing<lieservo::SE3d>(o, Filter(), Filter());
       if (dual_.configurationStatus() != Status::ok) throw SceneError("dual-arm pushing preset rejected");
     } else {
       detail::PushLoop::Options o;
@@ -98,12 +98,12 @@ class PushControl {
   /// One control period: each arm observes, and its loop writes its twist.
   Status step(EngineArm& leader, EngineArm* follower, double dt, Vec6& uL, Vec6& uF) {
     if (!dual_arm_) return leader.step(single_, dt, uL);
-    lieservo::DualArmPushing<double>::ArmInput inL, inF;
+    lieservo::DualArmPushing<lieservo::SE3d>::ArmInput inL, inF;
     inL.sensor_pose = leader.pose();
     inF.sensor_pose = follower->pose();
     Status s = leader.observe(inL.observation);
     if (s == Status::ok) s = follower->observe(inF.observation);
-    lieservo::DualArmPushing<double>::ArmOutput oL, oF;
+    lieservo::DualArmPushing<lieservo::SE3d>::ArmOutput oL, oF;
     if (s == Status::ok) s = centralised_ ? central_.step(inL, inF, dt, oL, oF) : dual_.step(inL, inF, dt, oL, oF);
     uL = oL.velocity;
     uF = oF.velocity;
@@ -113,15 +113,15 @@ class PushControl {
   bool terminated() const {
     return dual_arm_ ? (centralised_ ? central_.terminated() : dual_.terminated()) : single_.terminated();
   }
-  const lieservo::PushingController<double>& pusher() const {
+  const lieservo::PushingController<lieservo::SE3d>& pusher() const {
     return dual_arm_ ? (centralised_ ? central_.leader() : dual_.leader()) : single_.controller();
   }
 
  private:
   bool dual_arm_, centralised_;
   detail::PushLoop single_;
-  lieservo::DualArmPushing<double> dual_;
-  lieservo::CentralisedDualArmPushing<double> central_;
+  lieservo::DualArmPushing<lieservo::SE3d> dual_;
+  lieservo::CentralisedDualArmPushing<lieservo::SE3d> central_;
 };
 
 // What a trial counts over its periods.
@@ -163,7 +163,7 @@ void recordFollower(const ContactState& cL, const EngineArm& follower, const Vec
 
 // Records one period; true when the trial ends here (the target passed, the object toppled).
 bool recordPeriod(const PushingSetup& setup, World& world, const EngineArm& leader, const EngineArm* follower,
-                  const lieservo::PushingController<double>& pusher, const Vec3& fL, const Vec3& fF, double dt,
+                  const lieservo::PushingController<lieservo::SE3d>& pusher, const Vec3& fL, const Vec3& fF, double dt,
                   Counts& n, PushTrial& tr) {
   const ContactState& cL = leader.state;
   if (!cL.in_contact) tr.contact_kept = false;

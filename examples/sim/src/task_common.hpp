@@ -33,7 +33,7 @@ using Gaussian = lieservo::ConcentratedGaussian<SE3d>;
 /// Tracking and following: the paper's filter and the servo controller (control/tactile_loop.hpp).
 using ServoLoop = lieservo::TactileLoop<lieservo::TactileServoController<SE3d>>;
 /// Single-arm pushing: the paper's filter and the pushing controller.
-using PushLoop = lieservo::TactileLoop<lieservo::PushingController<double>>;
+using PushLoop = lieservo::TactileLoop<lieservo::PushingController<lieservo::SE3d>>;
 
 /// GDN observation of the true contact → concentrated Gaussian on X_sf
 /// (eq. 14, eq:se3_inverse_transform).

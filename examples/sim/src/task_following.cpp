@@ -132,6 +132,78 @@ mujoco::SceneSpec followingScene(const mujoco::FixtureSpec& fixture, const SE3d&
   return scene;
 }
 
+// The dome's paths pooled into one (means and rms weighted by their samples).
+void poolDome(FollowingResult& res) {
+  FollowingPath& P = res.dome_pooled;
+  P.name = "dome (8 paths)";
+  P.reached_end = true;
+  double n = 0;
+  for (const auto& p : res.dome) {
+    const double w = double(p.depth_error.n);
+    P.depth_error.mean += p.depth_error.mean * w;
+    P.tilt.mean += p.tilt.mean * w;
+    P.depth_error.rms += p.depth_error.rms * p.depth_error.rms * w;
+    P.tilt.rms += p.tilt.rms * p.tilt.rms * w;
+    P.depth_error.max = std::max(P.depth_error.max, p.depth_error.max);
+    P.tilt.max = std::max(P.tilt.max, p.tilt.max);
+    P.distance += p.distance;
+    P.contact_kept = P.contact_kept && p.contact_kept;
+    P.reached_end = P.reached_end && p.reached_end;
+    n += w;
+  }
+  if (n > 0) {
+    P.depth_error.mean /= n, P.tilt.mean /= n;
+    P.depth_error.rms = std::sqrt(P.depth_error.rms / n), P.tilt.rms = std::sqrt(P.tilt.rms / n);
+    P.depth_error.n = P.tilt.n = std::size_t(n);
+  }
+}
+
+// The ramp's figure: the path over the profile with the sensor's axis each second, the top
+// view, and the errors over time.
+void writeRampFigure(const std::string& dir, const mujoco::FixtureSpec& ramp, const PathLog& ramp_log) {
+  SvgFigure fig("Surface following: curved ramp (tip-centre trajectory, sensor z-axis every 1 s)");
+  SvgPanel& P = fig.panel("y-z (side view)", "y (mm)", "z (mm)");
+  std::vector<Vec2> profile;
+  for (double y = -80; y <= ramp.size2 + 80; y += 2) profile.emplace_back(y, mujoco::rampHeight(ramp, y));
+  P.line(profile, "#888", 2.0);
+  P.line(proj(ramp_log.pos, 1, 2), "#d62728", 1.2, false, "sensor");
+  for (const auto& [p, z] : ramp_log.axes) P.arrow(Vec2(p.y(), p.z()), Vec2(p.y() + 15 * z.y(), p.z() + 15 * z.z()), "#1f4fd8");
+  SvgPanel& Q = fig.panel("x-y (top view)", "x (mm)", "y (mm)");
+  Q.line(proj(ramp_log.pos, 0, 1), "#d62728", 1.2);
+  SvgPanel& D = fig.panel("depth error / tilt", "t (s)", "mm | deg");
+  D.equal_aspect = false;
+  D.line(ramp_log.depth, "#d62728", 1.0, false, "depth − 3 mm");
+  D.line(ramp_log.tilt, "#1f4fd8", 1.0, false, "tilt (deg)");
+  fig.write(detail::join(dir, "following_ramp.svg"));
+}
+
+// The dome's figure: the eight paths in three views with the sensor's axis each second.
+void writeDomeFigure(const std::string& dir, double a, const std::vector<PathLog>& dome_logs) {
+  SvgFigure fig("Surface following: 8 radial paths over a hemispherical dome (radius 80 mm)");
+  SvgPanel& P = fig.panel("x-y (top view)", "x (mm)", "y (mm)");
+  SvgPanel& Q = fig.panel("x-z (side view)", "x (mm)", "z (mm)");
+  SvgPanel& S = fig.panel("y-z (side view)", "y (mm)", "z (mm)");
+  std::vector<Vec2> circle, arc;
+  for (int k = 0; k <= 96; ++k) {
+    circle.emplace_back(a * std::cos(2 * kPi * k / 96), a * std::sin(2 * kPi * k / 96));
+    if (k <= 48) arc.emplace_back(a * std::cos(kPi * k / 48), a * std::sin(kPi * k / 48));
+  }
+  P.line(circle, "#888", 1.5);
+  Q.line(arc, "#888", 1.5);
+  S.line(arc, "#888", 1.5);
+  const char* colours[8] = {"#d62728", "#ff7f0e", "#bcbd22", "#2ca02c", "#17becf", "#1f77b4", "#9467bd", "#e377c2"};
+  for (int i = 0; i < 8; ++i) {
+    P.line(proj(dome_logs[i].pos, 0, 1), colours[i], 1.5);
+    Q.line(proj(dome_logs[i].pos, 0, 2), colours[i], 1.2);
+    S.line(proj(dome_logs[i].pos, 1, 2), colours[i], 1.2);
+    for (const auto& [p, z] : dome_logs[i].axes) {
+      Q.arrow(Vec2(p.x(), p.z()), Vec2(p.x() + 12 * z.x(), p.z() + 12 * z.z()), "#1f4fd8");
+      S.arrow(Vec2(p.y(), p.z()), Vec2(p.y() + 12 * z.y(), p.z() + 12 * z.z()), "#1f4fd8");
+    }
+  }
+  fig.write(detail::join(dir, "following_dome.svg"));
+}
+
 }  // namespace
 
 mujoco::FixtureSpec followingRamp() {
@@ -147,7 +219,6 @@ mujoco::FixtureSpec followingRamp() {
 FollowingResult runSurfaceFollowing(const TaskOptions& opt) {
   opt.validate();
   using detail::EngineArm;
-  using detail::join;
   FollowingResult res;
   const double R = opt.contact.tip_radius;
   const double ref_depth = lieservo::paper::kSurfaceFollowing.reference_pose[2];
@@ -158,7 +229,7 @@ FollowingResult runSurfaceFollowing(const TaskOptions& opt) {
   CsvWriter csv;
   if (!opt.out_dir.empty()) {
     makeDirectories(opt.out_dir);
-    csv.open(join(opt.out_dir, "following.csv"),
+    csv.open(detail::join(opt.out_dir, "following.csv"),
              {"t", "path", "sensor_x", "sensor_y", "sensor_z", "sensor_a_deg", "sensor_b_deg", "sensor_g_deg", "depth",
               "tilt_deg", "contact_x", "contact_y", "contact_z", "shear_x", "shear_y"});
   }
@@ -210,76 +281,12 @@ FollowingResult runSurfaceFollowing(const TaskOptions& opt) {
       res.dome.push_back(p);
     }
   }
-  // Pool the dome paths.
-  {
-    FollowingPath& P = res.dome_pooled;
-    P.name = "dome (8 paths)";
-    P.reached_end = true;
-    double n = 0;
-    for (const auto& p : res.dome) {
-      const double w = double(p.depth_error.n);
-      P.depth_error.mean += p.depth_error.mean * w;
-      P.tilt.mean += p.tilt.mean * w;
-      P.depth_error.rms += p.depth_error.rms * p.depth_error.rms * w;
-      P.tilt.rms += p.tilt.rms * p.tilt.rms * w;
-      P.depth_error.max = std::max(P.depth_error.max, p.depth_error.max);
-      P.tilt.max = std::max(P.tilt.max, p.tilt.max);
-      P.distance += p.distance;
-      P.contact_kept = P.contact_kept && p.contact_kept;
-      P.reached_end = P.reached_end && p.reached_end;
-      n += w;
-    }
-    if (n > 0) {
-      P.depth_error.mean /= n, P.tilt.mean /= n;
-      P.depth_error.rms = std::sqrt(P.depth_error.rms / n), P.tilt.rms = std::sqrt(P.tilt.rms / n);
-      P.depth_error.n = P.tilt.n = std::size_t(n);
-    }
-  }
+  poolDome(res);
   res.sim_time = t_global;
   res.success = res.failures.empty();
-
   if (!opt.out_dir.empty()) {
-    {
-      SvgFigure fig("Surface following: curved ramp (tip-centre trajectory, sensor z-axis every 1 s)");
-      SvgPanel& P = fig.panel("y-z (side view)", "y (mm)", "z (mm)");
-      std::vector<Vec2> profile;
-      for (double y = -80; y <= ramp.size2 + 80; y += 2) profile.emplace_back(y, mujoco::rampHeight(ramp, y));
-      P.line(profile, "#888", 2.0);
-      P.line(proj(ramp_log.pos, 1, 2), "#d62728", 1.2, false, "sensor");
-      for (const auto& [p, z] : ramp_log.axes) P.arrow(Vec2(p.y(), p.z()), Vec2(p.y() + 15 * z.y(), p.z() + 15 * z.z()), "#1f4fd8");
-      SvgPanel& Q = fig.panel("x-y (top view)", "x (mm)", "y (mm)");
-      Q.line(proj(ramp_log.pos, 0, 1), "#d62728", 1.2);
-      SvgPanel& D = fig.panel("depth error / tilt", "t (s)", "mm | deg");
-      D.equal_aspect = false;
-      D.line(ramp_log.depth, "#d62728", 1.0, false, "depth − 3 mm");
-      D.line(ramp_log.tilt, "#1f4fd8", 1.0, false, "tilt (deg)");
-      fig.write(join(opt.out_dir, "following_ramp.svg"));
-    }
-    {
-      SvgFigure fig("Surface following: 8 radial paths over a hemispherical dome (radius 80 mm)");
-      SvgPanel& P = fig.panel("x-y (top view)", "x (mm)", "y (mm)");
-      SvgPanel& Q = fig.panel("x-z (side view)", "x (mm)", "z (mm)");
-      SvgPanel& S = fig.panel("y-z (side view)", "y (mm)", "z (mm)");
-      std::vector<Vec2> circle, arc;
-      for (int k = 0; k <= 96; ++k) {
-        circle.emplace_back(a * std::cos(2 * kPi * k / 96), a * std::sin(2 * kPi * k / 96));
-        if (k <= 48) arc.emplace_back(a * std::cos(kPi * k / 48), a * std::sin(kPi * k / 48));
-      }
-      P.line(circle, "#888", 1.5);
-      Q.line(arc, "#888", 1.5);
-      S.line(arc, "#888", 1.5);
-      const char* colours[8] = {"#d62728", "#ff7f0e", "#bcbd22", "#2ca02c", "#17becf", "#1f77b4", "#9467bd", "#e377c2"};
-      for (int i = 0; i < 8; ++i) {
-        P.line(proj(dome_logs[i].pos, 0, 1), colours[i], 1.5);
-        Q.line(proj(dome_logs[i].pos, 0, 2), colours[i], 1.2);
-        S.line(proj(dome_logs[i].pos, 1, 2), colours[i], 1.2);
-        for (const auto& [p, z] : dome_logs[i].axes) {
-          Q.arrow(Vec2(p.x(), p.z()), Vec2(p.x() + 12 * z.x(), p.z() + 12 * z.z()), "#1f4fd8");
-          S.arrow(Vec2(p.y(), p.z()), Vec2(p.y() + 12 * z.y(), p.z() + 12 * z.z()), "#1f4fd8");
-        }
-      }
-      fig.write(join(opt.out_dir, "following_dome.svg"));
-    }
+    writeRampFigure(opt.out_dir, ramp, ramp_log);
+    writeDomeFigure(opt.out_dir, a, dome_logs);
   }
   return res;
 }

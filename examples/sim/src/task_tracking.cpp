@@ -55,20 +55,9 @@ SE3d periodicPose(double t, double T, const SE3d& X0) {
   return makePose(eulerToMatrix(q[3], q[4], q[5]) * X0.rotationMatrix(), X0.translation() + Vec3(q[0], q[1], q[2]));
 }
 
-}  // namespace
-
-TrackingResult runObjectTracking(const TaskOptions& opt) {
-  opt.validate();
-  using detail::EngineArm;
-  using detail::join;
-  TrackingResult res;
-  const double dt = 1.0 / opt.control_rate;
-  const int substeps = stepsPerPeriod(dt);
-  const double h = dt / substeps;
-  const double ref_depth = lieservo::paper::kObjectTracking.reference_pose[2];
-  const double R = opt.contact.tip_radius;
-
-  const SE3d X_wl0 = SE3d::identity();  // plate centre at the origin, normal +z_w
+// The scene: the leader's carried plate at the origin (normal +z_w) and the follower's sensor
+// normal to it at the reference depth (z_s = −z_w, x_s = x_w, y_s = −y_w).
+mujoco::SceneSpec trackingScene(const TaskOptions& opt, double h, double ref_depth) {
   mujoco::SceneSpec scene;
   scene.timestep = h;
   mujoco::FixtureSpec plate;
@@ -77,23 +66,19 @@ TrackingResult runObjectTracking(const TaskOptions& opt) {
   plate.size = 160;
   plate.size2 = 10;
   plate.carried = true;
-  plate.pose = X_wl0;
+  plate.pose = SE3d::identity();
   plate.friction = opt.contact.skin_friction;
   scene.fixtures = {plate};
-  // Follower: z_s = −z_w, x_s = x_w, y_s = −y_w, tip centre R − 6 mm above the plate.
   scene.sensors = {taskSensor(
       "follower", opt.contact,
-      makePose(fromColumns(Vec3::UnitX(), -Vec3::UnitY(), -Vec3::UnitZ()), Vec3(0, 0, R - ref_depth)))};
-  mujoco::World world(scene);
-  EngineArm follower(world, 0, opt, opt.seed * 7919 + 11);
-  detail::ServoLoop::Options loop_options;
-  loop_options.controller = lieservo::objectTrackingPreset<double>();
-  detail::ServoLoop loop(loop_options);
-  if (loop.configurationStatus() != Status::ok) throw SceneError("object tracking preset rejected");
+      makePose(fromColumns(Vec3::UnitX(), -Vec3::UnitY(), -Vec3::UnitZ()),
+               Vec3(0, 0, opt.contact.tip_radius - ref_depth)))};
+  return scene;
+}
 
-  // duration_scale < 1 shortens the legs at the same speeds (shorter moves, shorter times).
-  const double S = std::min(1.0, std::max(0.1, opt.duration_scale));
-  const double leg_time = 12.0 * S, hold = 1.0;
+// Part 1's legs, out and back along −x, +y, +z and about x (−α), y, z; S < 1 shortens the moves
+// at the same speeds.
+std::vector<Leg> trackingLegs(double S) {
   const double L = 200 * S, A = deg(60) * S;
   std::vector<Leg> legs;
   auto addPair = [&](const std::string& n, Vec3 tr, Vec3 ax, double ang) {
@@ -106,41 +91,185 @@ TrackingResult runObjectTracking(const TaskOptions& opt) {
   addPair("-alpha", Vec3::Zero(), Vec3::UnitX(), -A);
   addPair("beta", Vec3::Zero(), Vec3::UnitY(), A);
   addPair("gamma", Vec3::Zero(), Vec3::UnitZ(), A);
+  return legs;
+}
+
+// What the figures draw: both parts' leader and follower paths, the follower's axis once a
+// second, and the depth error and tilt over time.
+struct TrackingTrace {
+  std::vector<Vec3> lead1, foll1, lead2, foll2;
+  std::vector<std::pair<Vec3, Vec3>> axes1, axes2;  // follower position, z axis (sampled)
+  std::vector<Vec2> depth_series, tilt_series;
+};
+
+// One control period's record: the segment's statistics, the CSV row, the traces.
+void recordPeriod(const TaskOptions& opt, double t, long k, bool part2, const SE3d& X_wl, double ref_depth,
+                  const detail::EngineArm& follower, const detail::ServoLoop& loop, TrackingSegment& seg,
+                  CsvWriter& csv, TrackingTrace& tr) {
+  const ContactState& c = follower.state;
+  const double depth_err = c.depth - ref_depth;
+  const Vec3 pc = X_wl.inverse() * c.point_w;
+  seg.depth_error.add(depth_err);
+  seg.tilt.add(toDeg(c.tilt));
+  seg.twist.add(toDeg(c.twist));
+  seg.lag.add(pc.head<2>().norm());
+  if (!c.in_contact) seg.contact_kept = false;
+  const SE3d Xs = follower.pose();
+  if (csv.isOpen()) {
+    const Vec6 el = euler6(X_wl), es = euler6(Xs);
+    const Vec6 est = euler6(loop.filter().filtered().mean.inverse());
+    csv.row({t, part2 ? 2.0 : 1.0, el[0], el[1], el[2], toDeg(el[3]), toDeg(el[4]), toDeg(el[5]), es[0], es[1], es[2],
+             toDeg(es[3]), toDeg(es[4]), toDeg(es[5]), c.depth, est[2], toDeg(c.tilt), c.shear.x(), c.shear.y(),
+             toDeg(c.twist), c.slipped ? 1.0 : 0.0});
+  }
+  (part2 ? tr.lead2 : tr.lead1).push_back(X_wl.translation());
+  (part2 ? tr.foll2 : tr.foll1).push_back(Xs.translation());
+  if (k % int(opt.control_rate) == 0)
+    (part2 ? tr.axes2 : tr.axes1).push_back({Xs.translation(), Vec3(Xs.rotationMatrix().col(2))});
+  tr.depth_series.emplace_back(t, depth_err);
+  tr.tilt_series.emplace_back(t, toDeg(c.tilt));
+}
+
+// The per-period log, dir/tracking.csv.
+void openLog(const std::string& dir, CsvWriter& csv) {
+  makeDirectories(dir);
+  csv.open(detail::join(dir, "tracking.csv"),
+           {"t", "part", "leader_x", "leader_y", "leader_z", "leader_a_deg", "leader_b_deg", "leader_g_deg",
+            "sensor_x", "sensor_y", "sensor_z", "sensor_a_deg", "sensor_b_deg", "sensor_g_deg", "depth",
+            "depth_est", "tilt_deg", "shear_x", "shear_y", "twist_deg", "slipped"});
+}
+
+// The single-axis legs pooled into one segment (means and rms weighted by their samples).
+TrackingSegment pool(const std::vector<TrackingSegment>& segs, std::size_t b, std::size_t e, const std::string& n) {
+  TrackingSegment p;
+  p.name = n;
+  double wd = 0, wt = 0, ww = 0, wl = 0, rd = 0, rt = 0, rw = 0, rl = 0;
+  std::size_t N = 0;
+  for (std::size_t i = b; i < e; ++i) {
+    const auto& s = segs[i];
+    const double n_i = double(s.depth_error.n);
+    N += s.depth_error.n;
+    wd += s.depth_error.mean * n_i, wt += s.tilt.mean * n_i, ww += s.twist.mean * n_i, wl += s.lag.mean * n_i;
+    rd += s.depth_error.rms * s.depth_error.rms * n_i, rt += s.tilt.rms * s.tilt.rms * n_i;
+    rw += s.twist.rms * s.twist.rms * n_i, rl += s.lag.rms * s.lag.rms * n_i;
+    p.depth_error.max = std::max(p.depth_error.max, s.depth_error.max);
+    p.tilt.max = std::max(p.tilt.max, s.tilt.max);
+    p.twist.max = std::max(p.twist.max, s.twist.max);
+    p.lag.max = std::max(p.lag.max, s.lag.max);
+    p.contact_kept = p.contact_kept && s.contact_kept;
+  }
+  if (N) {
+    const double nn = double(N);
+    p.depth_error.mean = wd / nn, p.tilt.mean = wt / nn, p.twist.mean = ww / nn, p.lag.mean = wl / nn;
+    p.depth_error.rms = std::sqrt(rd / nn), p.tilt.rms = std::sqrt(rt / nn), p.twist.rms = std::sqrt(rw / nn);
+    p.lag.rms = std::sqrt(rl / nn);
+    p.depth_error.n = p.tilt.n = p.twist.n = p.lag.n = N;
+  }
+  return p;
+}
+
+// The criteria (docs/simulation.md, "Success criteria") on both parts.
+void judgeTracking(TrackingResult& res) {
+  for (const TrackingSegment* p : {&res.single_axis, &res.periodic}) {
+    char buf[200];
+    if (!p->contact_kept) res.failures.push_back("tracking " + p->name + ": contact lost");
+    if (p->depth_error.mean > Bounds::tracking_depth_mean || p->depth_error.max > Bounds::tracking_depth_max) {
+      std::snprintf(buf, sizeof buf, "tracking %s: depth error mean %.2f / max %.2f mm over bounds %.1f / %.1f",
+                    p->name.c_str(), p->depth_error.mean, p->depth_error.max, Bounds::tracking_depth_mean,
+                    Bounds::tracking_depth_max);
+      res.failures.push_back(buf);
+    }
+    if (p->tilt.mean > Bounds::tracking_tilt_mean || p->tilt.max > Bounds::tracking_tilt_max) {
+      std::snprintf(buf, sizeof buf, "tracking %s: tilt mean %.2f / max %.2f deg over bounds %.1f / %.1f",
+                    p->name.c_str(), p->tilt.mean, p->tilt.max, Bounds::tracking_tilt_mean, Bounds::tracking_tilt_max);
+      res.failures.push_back(buf);
+    }
+  }
+  res.success = res.failures.empty();
+}
+
+// The figures: both parts' paths in three projections, and the errors over time.
+void writeTrackingFigures(const std::string& dir, const TrackingTrace& tr) {
+  using detail::join;
+  auto proj = [](const std::vector<Vec3>& v, int a, int b) {
+    std::vector<Vec2> o;
+    o.reserve(v.size());
+    for (const auto& p : v) o.emplace_back(p[a], p[b]);
+    return o;
+  };
+  auto addAxes = [](SvgPanel& P, const std::vector<std::pair<Vec3, Vec3>>& ax, int a, int b) {
+    for (const auto& [p, z] : ax) P.arrow(Vec2(p[a], p[b]), Vec2(p[a] + 10 * z[a], p[b] + 10 * z[b]), "#1f4fd8");
+  };
+  const char* names[3] = {"x (mm)", "y (mm)", "z (mm)"};
+  const int pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+  for (int part = 1; part <= 2; ++part) {
+    SvgFigure fig(part == 1 ? "Object tracking: single-axis moves (leader plate centre vs follower tip centre)"
+                            : "Object tracking: periodic trajectory (3 periods)");
+    for (const auto& pr : pairs) {
+      SvgPanel& P = fig.panel(std::string(names[pr[0]]).substr(0, 1) + "-" + std::string(names[pr[1]]).substr(0, 1) +
+                                  " projection",
+                              names[pr[0]], names[pr[1]]);
+      P.line(proj(part == 1 ? tr.lead1 : tr.lead2, pr[0], pr[1]), "#888", 1.5, true, "leader (plate)");
+      P.line(proj(part == 1 ? tr.foll1 : tr.foll2, pr[0], pr[1]), "#d62728", 1.2, false, "follower (sensor)");
+      addAxes(P, part == 1 ? tr.axes1 : tr.axes2, pr[0], pr[1]);
+    }
+    fig.write(join(dir, part == 1 ? "tracking_single_axis.svg" : "tracking_periodic.svg"));
+  }
+  SvgFigure ts("Object tracking: contact-depth error and tilt from the normal");
+  SvgPanel& a = ts.panel("depth error (true − 6 mm)", "t (s)", "mm");
+  a.equal_aspect = false;
+  a.line(tr.depth_series, "#d62728", 1.0);
+  SvgPanel& b = ts.panel("angle from surface normal", "t (s)", "deg");
+  b.equal_aspect = false;
+  b.line(tr.tilt_series, "#1f4fd8", 1.0);
+  ts.write(join(dir, "tracking_errors.svg"), 520);
+}
+
+}  // namespace
+
+TrackingResult runObjectTracking(const TaskOptions& opt) {
+  opt.validate();
+  TrackingResult res;
+  const double dt = 1.0 / opt.control_rate;
+  const int substeps = stepsPerPeriod(dt);
+  const double h = dt / substeps;
+  const double ref_depth = lieservo::paper::kObjectTracking.reference_pose[2];
+  const SE3d X_wl0 = SE3d::identity();  // plate centre at the origin, normal +z_w
+  const mujoco::SceneSpec scene = trackingScene(opt, h, ref_depth);
+  mujoco::World world(scene);
+  detail::EngineArm follower(world, 0, opt, opt.seed * 7919 + 11);
+  detail::ServoLoop::Options loop_options;
+  loop_options.controller = lieservo::objectTrackingPreset<double>();
+  detail::ServoLoop loop(loop_options);
+  if (loop.configurationStatus() != Status::ok) throw SceneError("object tracking preset rejected");
+
+  // duration_scale < 1 shortens the legs at the same speeds (shorter moves, shorter times).
+  const double S = std::min(1.0, std::max(0.1, opt.duration_scale));
+  const double leg_time = 12.0 * S, hold = 1.0;
+  const std::vector<Leg> legs = trackingLegs(S);
   const double T1 = legs.size() * (leg_time + hold);
   const double Tper = 30.0;
   const int periods = opt.duration_scale >= 1 ? 3 : 1;
   const double T2 = opt.duration_scale >= 1 ? periods * Tper : std::max(5.0, opt.duration_scale * Tper);
-
   res.segments.resize(legs.size() + 1);
   for (std::size_t i = 0; i < legs.size(); ++i) res.segments[i].name = legs[i].name;
   res.segments.back().name = "periodic";
 
   CsvWriter csv;
-  if (!opt.out_dir.empty()) {
-    makeDirectories(opt.out_dir);
-    csv.open(join(opt.out_dir, "tracking.csv"),
-             {"t", "part", "leader_x", "leader_y", "leader_z", "leader_a_deg", "leader_b_deg", "leader_g_deg",
-              "sensor_x", "sensor_y", "sensor_z", "sensor_a_deg", "sensor_b_deg", "sensor_g_deg", "depth",
-              "depth_est", "tilt_deg", "shear_x", "shear_y", "twist_deg", "slipped"});
-  }
-  std::vector<Vec3> lead1, foll1, lead2, foll2;
-  std::vector<std::pair<Vec3, Vec3>> axes1, axes2;  // follower position, z axis (sampled)
-  std::vector<Vec2> depth_series, tilt_series;
-
+  if (!opt.out_dir.empty()) openLog(opt.out_dir, csv);
+  TrackingTrace trace;
   SE3d X_wl = X_wl0;
   follower.touch(world);
   double t = 0;
-  const double Ttot = T1 + T2;
   long k = 0;
   const long state_every = std::max(1L, std::lround(kStatePeriod / dt));
   res.states.scene = scene;
   res.states.add(0, world.positions());
-  while (t < Ttot - 1e-9) {
+  while (t < T1 + T2 - 1e-9) {
     const bool part2 = t >= T1;
     std::size_t leg = legs.size();
-    // Control step: observe, filter, control.
     Vec6 u = Vec6::Zero();
-    Status s = follower.step(loop, dt, u);
+    Status s = follower.step(loop, dt, u);  // observe, filter, control
     if (s != Status::ok) {
       res.failures.push_back(std::string("tracking: loop status ") + lieservo::describe(s));
       break;
@@ -164,120 +293,16 @@ TrackingResult runObjectTracking(const TaskOptions& opt) {
     ++k;
     if (k % state_every == 0) res.states.add(t, world.positions());
     if (!part2) legPose(legs, leg_time, hold, t - 0.5 * dt, X_wl0, leg);
-    TrackingSegment& seg = part2 ? res.segments.back() : res.segments[leg];
-    const ContactState& c = follower.state;
-    const double depth_err = c.depth - ref_depth;
-    const Vec3 pc = X_wl.inverse() * c.point_w;
-    seg.depth_error.add(depth_err);
-    seg.tilt.add(toDeg(c.tilt));
-    seg.twist.add(toDeg(c.twist));
-    seg.lag.add(pc.head<2>().norm());
-    if (!c.in_contact) seg.contact_kept = false;
-    const SE3d Xs = follower.pose();
-    if (csv.isOpen()) {
-      const Vec6 el = euler6(X_wl), es = euler6(Xs);
-      const Vec6 est = euler6(loop.filter().filtered().mean.inverse());
-      csv.row({t, part2 ? 2.0 : 1.0, el[0], el[1], el[2], toDeg(el[3]), toDeg(el[4]), toDeg(el[5]), es[0], es[1], es[2],
-               toDeg(es[3]), toDeg(es[4]), toDeg(es[5]), c.depth, est[2], toDeg(c.tilt), c.shear.x(), c.shear.y(),
-               toDeg(c.twist), c.slipped ? 1.0 : 0.0});
-    }
-    (part2 ? lead2 : lead1).push_back(X_wl.translation());
-    (part2 ? foll2 : foll1).push_back(Xs.translation());
-    if (k % int(opt.control_rate) == 0)
-      (part2 ? axes2 : axes1).push_back({Xs.translation(), Vec3(Xs.rotationMatrix().col(2))});
-    depth_series.emplace_back(t, depth_err);
-    tilt_series.emplace_back(t, toDeg(c.tilt));
+    recordPeriod(opt, t, k, part2, X_wl, ref_depth, follower, loop, part2 ? res.segments.back() : res.segments[leg],
+                 csv, trace);
   }
   if (res.states.times.back() < t) res.states.add(t, world.positions());
   res.sim_time = t;
-  for (auto& s : res.segments) {
-    s.depth_error.finish();
-    s.tilt.finish();
-    s.twist.finish();
-    s.lag.finish();
-  }
-  // Pool the single-axis legs.
-  auto pool = [](const std::vector<TrackingSegment>& segs, std::size_t b, std::size_t e, const std::string& n) {
-    TrackingSegment p;
-    p.name = n;
-    double wd = 0, wt = 0, ww = 0, wl = 0, rd = 0, rt = 0, rw = 0, rl = 0;
-    std::size_t N = 0;
-    for (std::size_t i = b; i < e; ++i) {
-      const auto& s = segs[i];
-      const double n_i = double(s.depth_error.n);
-      N += s.depth_error.n;
-      wd += s.depth_error.mean * n_i, wt += s.tilt.mean * n_i, ww += s.twist.mean * n_i, wl += s.lag.mean * n_i;
-      rd += s.depth_error.rms * s.depth_error.rms * n_i, rt += s.tilt.rms * s.tilt.rms * n_i;
-      rw += s.twist.rms * s.twist.rms * n_i, rl += s.lag.rms * s.lag.rms * n_i;
-      p.depth_error.max = std::max(p.depth_error.max, s.depth_error.max);
-      p.tilt.max = std::max(p.tilt.max, s.tilt.max);
-      p.twist.max = std::max(p.twist.max, s.twist.max);
-      p.lag.max = std::max(p.lag.max, s.lag.max);
-      p.contact_kept = p.contact_kept && s.contact_kept;
-    }
-    if (N) {
-      const double n = double(N);
-      p.depth_error.mean = wd / n, p.tilt.mean = wt / n, p.twist.mean = ww / n, p.lag.mean = wl / n;
-      p.depth_error.rms = std::sqrt(rd / n), p.tilt.rms = std::sqrt(rt / n), p.twist.rms = std::sqrt(rw / n);
-      p.lag.rms = std::sqrt(rl / n);
-      p.depth_error.n = p.tilt.n = p.twist.n = p.lag.n = N;
-    }
-    return p;
-  };
+  for (auto& seg : res.segments) seg.depth_error.finish(), seg.tilt.finish(), seg.twist.finish(), seg.lag.finish();
   res.single_axis = pool(res.segments, 0, legs.size(), "single-axis");
   res.periodic = res.segments.back();
-
-  for (const TrackingSegment* p : {&res.single_axis, &res.periodic}) {
-    char buf[200];
-    if (!p->contact_kept) res.failures.push_back("tracking " + p->name + ": contact lost");
-    if (p->depth_error.mean > Bounds::tracking_depth_mean || p->depth_error.max > Bounds::tracking_depth_max) {
-      std::snprintf(buf, sizeof buf, "tracking %s: depth error mean %.2f / max %.2f mm over bounds %.1f / %.1f",
-                    p->name.c_str(), p->depth_error.mean, p->depth_error.max, Bounds::tracking_depth_mean,
-                    Bounds::tracking_depth_max);
-      res.failures.push_back(buf);
-    }
-    if (p->tilt.mean > Bounds::tracking_tilt_mean || p->tilt.max > Bounds::tracking_tilt_max) {
-      std::snprintf(buf, sizeof buf, "tracking %s: tilt mean %.2f / max %.2f deg over bounds %.1f / %.1f",
-                    p->name.c_str(), p->tilt.mean, p->tilt.max, Bounds::tracking_tilt_mean, Bounds::tracking_tilt_max);
-      res.failures.push_back(buf);
-    }
-  }
-  res.success = res.failures.empty();
-
-  if (!opt.out_dir.empty()) {
-    auto proj = [](const std::vector<Vec3>& v, int a, int b) {
-      std::vector<Vec2> o;
-      o.reserve(v.size());
-      for (const auto& p : v) o.emplace_back(p[a], p[b]);
-      return o;
-    };
-    auto addAxes = [](SvgPanel& P, const std::vector<std::pair<Vec3, Vec3>>& ax, int a, int b) {
-      for (const auto& [p, z] : ax) P.arrow(Vec2(p[a], p[b]), Vec2(p[a] + 10 * z[a], p[b] + 10 * z[b]), "#1f4fd8");
-    };
-    const char* names[3] = {"x (mm)", "y (mm)", "z (mm)"};
-    const int pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
-    for (int part = 1; part <= 2; ++part) {
-      SvgFigure fig(part == 1 ? "Object tracking: single-axis moves (leader plate centre vs follower tip centre)"
-                              : "Object tracking: periodic trajectory (3 periods)");
-      for (const auto& pr : pairs) {
-        SvgPanel& P = fig.panel(std::string(names[pr[0]]).substr(0, 1) + "-" + std::string(names[pr[1]]).substr(0, 1) +
-                                    " projection",
-                                names[pr[0]], names[pr[1]]);
-        P.line(proj(part == 1 ? lead1 : lead2, pr[0], pr[1]), "#888", 1.5, true, "leader (plate)");
-        P.line(proj(part == 1 ? foll1 : foll2, pr[0], pr[1]), "#d62728", 1.2, false, "follower (sensor)");
-        addAxes(P, part == 1 ? axes1 : axes2, pr[0], pr[1]);
-      }
-      fig.write(join(opt.out_dir, part == 1 ? "tracking_single_axis.svg" : "tracking_periodic.svg"));
-    }
-    SvgFigure ts("Object tracking: contact-depth error and tilt from the normal");
-    SvgPanel& a = ts.panel("depth error (true − 6 mm)", "t (s)", "mm");
-    a.equal_aspect = false;
-    a.line(depth_series, "#d62728", 1.0);
-    SvgPanel& b = ts.panel("angle from surface normal", "t (s)", "deg");
-    b.equal_aspect = false;
-    b.line(tilt_series, "#1f4fd8", 1.0);
-    ts.write(join(opt.out_dir, "tracking_errors.svg"), 520);
-  }
+  judgeTracking(res);
+  if (!opt.out_dir.empty()) writeTrackingFigures(opt.out_dir, trace);
   return res;
 }
 

@@ -39,13 +39,15 @@
 
 namespace lieservo {
 
-template <class Scalar, class Filter = DiscriminativeBayesFilter<SE3<Scalar>>>
 /// Dual-arm pushing with a centralised follower feedforward (Section 3.3.4,
 /// sec:single_dual_arm_controllers): DualArmPushing plus the follower's v_push (and v_op) from
-/// both arms' poses and the leader's command (the header comment gives the law).
-class CentralisedDualArmPushing : public Configurable<CentralisedDualArmPushing<Scalar, Filter>> {
+/// both arms' poses and the leader's command (the header comment gives the law). `G`: the pose
+/// group, as every controller's (SE3<Scalar>).
+template <class G, class Filter = DiscriminativeBayesFilter<G>>
+class CentralisedDualArmPushing : public Configurable<CentralisedDualArmPushing<G, Filter>> {
  public:
-  using Arms = DualArmPushing<Scalar, Filter>;  ///< the two controllers and filters it drives
+  using Arms = DualArmPushing<G, Filter>;  ///< the two controllers and filters it drives
+  using Scalar = typename G::Scalar;  ///< float or double
   using Group = typename Arms::Group;  ///< SE(3)
   using Tangent = typename Arms::Tangent;  ///< a twist [v; ω]
   using ArmInput = typename Arms::ArmInput;  ///< one arm's measurements for a cycle
@@ -152,9 +154,9 @@ class CentralisedDualArmPushing : public Configurable<CentralisedDualArmPushing<
 /// feedforward, no opposition gain (Options::opposition_gain), and a 20 mm/s limit on the
 /// opposition velocity for a caller who sets one (above the leader's 15 mm/s alignment clip).
 template <class Scalar, class Filter = DiscriminativeBayesFilter<SE3<Scalar>>>
-typename CentralisedDualArmPushing<Scalar, Filter>::Options centralisedDualArmPushingPreset(
+typename CentralisedDualArmPushing<SE3<Scalar>, Filter>::Options centralisedDualArmPushingPreset(
     bool tall_object = false, const PaperGainConvention& c = {}) {
-  typename CentralisedDualArmPushing<Scalar, Filter>::Options o;
+  typename CentralisedDualArmPushing<SE3<Scalar>, Filter>::Options o;
   o.arms = dualArmPushingPreset<Scalar, Filter>(tall_object, c);
   return o;
 }

@@ -36,15 +36,16 @@ namespace lieservo {
 /// Leader (pusher) + follower (stabiliser), each with its own filter: the dual-arm tactile loop.
 /// `Filter` must provide step(sensor_pose, observation) that initialises on its first call,
 /// initialised(), reset() and filtered()
-/// (a ConcentratedGaussian<SE3<Scalar>> or anything with a `mean` member): the lifecycle of
-/// DiscriminativeBayesFilter.
-template <class Scalar, class Filter = DiscriminativeBayesFilter<SE3<Scalar>>>
-class DualArmPushing : public Configurable<DualArmPushing<Scalar, Filter>> {
+/// (a ConcentratedGaussian<G> or anything with a `mean` member): the lifecycle of
+/// DiscriminativeBayesFilter. `G`: the pose group, as every controller's (SE3<Scalar>).
+template <class G, class Filter = DiscriminativeBayesFilter<G>>
+class DualArmPushing : public Configurable<DualArmPushing<G, Filter>> {
  public:
-  using Group = SE3<Scalar>;  ///< poses of sensors, features and targets
+  using Group = G;  ///< poses of sensors, features and targets
+  using Scalar = typename G::Scalar;  ///< float or double
   using Tangent = typename Group::Tangent;  ///< a twist [v; ω]
   using Observation = ConcentratedGaussian<Group>;  ///< a GDN estimate with covariance
-  using Leader = PushingController<Scalar>;  ///< the pusher's controller
+  using Leader = PushingController<G>;  ///< the pusher's controller
   using Follower = TactileServoController<Group>;  ///< the stabiliser's controller
 
   /// Both arms' controller options.
@@ -186,9 +187,9 @@ class DualArmPushing : public Configurable<DualArmPushing<Scalar, Filter>> {
 /// with the tall-object reference offsets of Section 5.7.2 (sec:dual_arm_tall_object_pushing) when
 /// `tall_object` is true.
 template <class Scalar, class Filter = DiscriminativeBayesFilter<SE3<Scalar>>>
-typename DualArmPushing<Scalar, Filter>::Options dualArmPushingPreset(bool tall_object = false,
+typename DualArmPushing<SE3<Scalar>, Filter>::Options dualArmPushingPreset(bool tall_object = false,
                                                                       const PaperGainConvention& c = {}) {
-  typename DualArmPushing<Scalar, Filter>::Options o;
+  typename DualArmPushing<SE3<Scalar>, Filter>::Options o;
   o.leader = pushingPreset<Scalar>(tall_object ? PushingConfiguration::dual_arm_leader_tall_object
                                                : PushingConfiguration::dual_arm_leader,
                                    c);

@@ -256,9 +256,9 @@ enum class PushingConfiguration {
 /// The target X_wt is task-specific (paper: (y, z) = (0, 375) mm in the work frame): set
 /// Options::target or call PushingController::setTarget.
 template <class Scalar>
-typename PushingController<Scalar>::Options pushingPreset(
+typename PushingController<SE3<Scalar>>::Options pushingPreset(
     PushingConfiguration config = PushingConfiguration::single_arm, const PaperGainConvention& c = {}) {
-  typename PushingController<Scalar>::Options o;
+  typename PushingController<SE3<Scalar>>::Options o;
   o.servo = paperServoOptions<Scalar>(paper::kPushingServo, c);
   if (config == PushingConfiguration::dual_arm_leader_tall_object)
     o.servo.reference = paperPose<Scalar>(paper::kTallObjectLeaderReference);

@@ -32,6 +32,8 @@
 // Translation units are the caller's (the paper and the presets: mm); angles in radians.
 #pragma once
 
+#include <type_traits>
+
 #include <cmath>
 #include <limits>
 
@@ -53,12 +55,16 @@ enum class TerminationDistance {
   euclidean,        ///< ‖X_ws⁻¹ X_wt translation‖: full 3-D distance tip centre → target
 };
 
-template <class Scalar>
 /// The tactile pushing controller (Section 3.3.3, sec:pushing_controller): tactile servoing
 /// plus target alignment by a SISO PID on the bearing (eqs. 21-22); the header comment gives the law.
-class PushingController : public Configurable<PushingController<Scalar>> {
+/// `G`: the pose group, as every controller's (SE3<float> or SE3<double>: pushing is on SE(3)).
+template <class G>
+class PushingController : public Configurable<PushingController<G>> {
+  static_assert(std::is_same_v<G, SE3<typename G::Scalar>>, "PushingController pushes on SE(3): G = SE3<Scalar>");
+
  public:
-  using Group = SE3<Scalar>;  ///< poses
+  using Group = G;  ///< poses
+  using Scalar = typename G::Scalar;  ///< float or double
   using Servo = TactileServoController<Group>;  ///< PID 1: the tactile servo
   using Tangent = typename Group::Tangent;  ///< a twist [v; ω]
   using Alignment = SisoPid<Scalar>;  ///< PID 2: the bearing alignment

@@ -16,7 +16,7 @@
 // step() returns Status::ok exactly when it wrote a twist.
 //
 // TactileLoop is the single-arm loop (TactileServoController<G> for tracking and surface
-// following, PushingController<Scalar> for pushing); DualArmPushing and CentralisedDualArmPushing
+// following, PushingController<SE3<Scalar>> for pushing); DualArmPushing and CentralisedDualArmPushing
 // run the same policy on each of their arms (filterForControl below).
 #pragma once
 
@@ -80,7 +80,7 @@ Status controlStep(TactileServoController<G>& c, const G&, const G& feature_in_s
   return c.step(feature_in_sensor, dt, u);
 }
 template <class Scalar>
-Status controlStep(PushingController<Scalar>& c, const SE3<Scalar>& sensor_in_work,
+Status controlStep(PushingController<SE3<Scalar>>& c, const SE3<Scalar>& sensor_in_work,
                    const SE3<Scalar>& feature_in_sensor, Scalar dt, typename SE3<Scalar>::Tangent& u) noexcept {
   return c.step(sensor_in_work, feature_in_sensor, dt, u);
 }
@@ -89,14 +89,14 @@ bool controlTerminated(const TactileServoController<G>&) noexcept {
   return false;
 }
 template <class Scalar>
-bool controlTerminated(const PushingController<Scalar>& c) noexcept {
+bool controlTerminated(const PushingController<SE3<Scalar>>& c) noexcept {
   return c.terminated();
 }
 
 }  // namespace detail
 
 /// The single-arm tactile loop (Figure 1, fig:system_architecture): the Bayes filter (Algorithm 2) and a
-/// controller (TactileServoController<G> or PushingController<Scalar>), stepped together under
+/// controller (TactileServoController<G> or PushingController<G>), stepped together under
 /// the policy of the header comment. Real-time: step() is noexcept and allocation-free.
 template <class Controller, class Filter = DiscriminativeBayesFilter<typename Controller::Group>>
 class TactileLoop : public Configurable<TactileLoop<Controller, Filter>> {
