@@ -226,28 +226,13 @@ inline void ensureParamFile(const std::string& path, const std::string& text) {
   writeFileAtomic(path, text);
 }
 
-}  // namespace detail
-
-/// Runs (or resumes) a collection. Throws DatasetError on any file problem or robot/camera
-/// failure (the arm is stopped first).
-inline CollectionResult runCollection(const CollectionConfig& c, robot::RobotInterface& arm, ImageSource& camera) {
+/// Resume: the rows already in `csv` must be this plan's first rows, each with its image; a
+/// torn last line (an interrupted append) is cut. Counts them in res.rows_before and notes the
+/// repairs in res.notes. Throws DatasetError naming the file and line otherwise.
+inline void validateExisting(const CollectionConfig& c, const std::vector<ContactPose>& plan, const std::string& csv,
+                             const std::string& img_dir, CollectionResult& res) {
   namespace fs = std::filesystem;
-  CollectionResult res;
-  if (c.out_dir.empty()) throw DatasetError("no output directory given");
-  if (!(c.start_height_mm >= 0) || !std::isfinite(c.start_height_mm)) throw DatasetError("start height must be finite and >= 0");
-  const std::vector<ContactPose> plan = collectionPlan(c);
-  const SE3d X_wf = SE3d::fromEulerXYZ6Degrees(c.work_frame);
-  const std::string dir = c.out_dir, img_dir = dir + "/processed_images", csv = dir + "/targets.csv";
   std::error_code ec;
-  fs::create_directories(img_dir, ec);
-  if (ec) throw DatasetError(img_dir + ": error: cannot create directory: " + ec.message());
-
-  detail::ensureParamFile(dir + "/collect_params.json", collectParamsJson(c));
-  detail::ensureParamFile(dir + "/processed_image_params.json", camera.paramsJson() + "\n");
-  detail::ensureParamFile(dir + "/env_params.json", envParamsJson(c));
-  detail::ensureParamFile(dir + "/meta.json", metaJson(c));
-
-  // ---- resume: validate what is there -------------------------------------------------
   const std::string header = targetsHeader();
   if (!fileExists(csv)) {
     writeFileAtomic(csv, header + "\n");
@@ -298,6 +283,30 @@ inline CollectionResult runCollection(const CollectionConfig& c, robot::RobotInt
       res.notes.push_back(imageName(res.rows_before + 1) + ": image without a row (interrupted before its row was appended); re-collecting it");
     }
   }
+}
+
+}  // namespace detail
+
+/// Runs (or resumes) a collection. Throws DatasetError on any file problem or robot/camera
+/// failure (the arm is stopped first).
+inline CollectionResult runCollection(const CollectionConfig& c, robot::RobotInterface& arm, ImageSource& camera) {
+  namespace fs = std::filesystem;
+  CollectionResult res;
+  if (c.out_dir.empty()) throw DatasetError("no output directory given");
+  if (!(c.start_height_mm >= 0) || !std::isfinite(c.start_height_mm)) throw DatasetError("start height must be finite and >= 0");
+  const std::vector<ContactPose> plan = collectionPlan(c);
+  const SE3d X_wf = SE3d::fromEulerXYZ6Degrees(c.work_frame);
+  const std::string dir = c.out_dir, img_dir = dir + "/processed_images", csv = dir + "/targets.csv";
+  std::error_code ec;
+  fs::create_directories(img_dir, ec);
+  if (ec) throw DatasetError(img_dir + ": error: cannot create directory: " + ec.message());
+
+  detail::ensureParamFile(dir + "/collect_params.json", collectParamsJson(c));
+  detail::ensureParamFile(dir + "/processed_image_params.json", camera.paramsJson() + "\n");
+  detail::ensureParamFile(dir + "/env_params.json", envParamsJson(c));
+  detail::ensureParamFile(dir + "/meta.json", metaJson(c));
+
+  detail::validateExisting(c, plan, csv, img_dir, res);
   for (const auto& entry : fs::directory_iterator(img_dir, ec)) {  // stale partial writes
     if (entry.path().extension() == ".tmp") fs::remove(entry.path(), ec);
   }

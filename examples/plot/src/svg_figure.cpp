@@ -1,9 +1,12 @@
 // SVG figures (see lieservo_plot/svg_figure.hpp).
 #include "lieservo_plot/svg_figure.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <limits>
@@ -56,8 +59,122 @@ std::string tickLabel(double v, double step) {
   return s;
 }
 
+namespace {
+
+// A panel's data window: fixed limits, or the data's bounding box plus 5 %; squared for an
+// equal aspect.
+struct Window {
+  double x0, x1, y0, y1, dx, dy;
+};
+
+Window panelWindow(const SvgPanel& p) {
+  double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
+  double dx = 0, dy = 0;
+  if (p.limits) {
+    x0 = (*p.limits)[0], x1 = (*p.limits)[1], y0 = (*p.limits)[2], y1 = (*p.limits)[3];
+    if (!(x1 > x0)) x0 -= 1, x1 = x0 + 2;
+    if (!(y1 > y0)) y0 -= 1, y1 = y0 + 2;
+    dx = x1 - x0, dy = y1 - y0;
+  } else {
+    auto grow = [&](const Point& q) {
+      if (!q.allFinite()) return;
+      x0 = std::min(x0, q.x());
+      x1 = std::max(x1, q.x());
+      y0 = std::min(y0, q.y());
+      y1 = std::max(y1, q.y());
+    };
+    for (const auto& l : p.lines)
+      for (const auto& q : l.pts) grow(q);
+    for (const auto& m : p.markers) {
+      grow(m.p + Point(m.radius, m.radius));
+      grow(m.p - Point(m.radius, m.radius));
+    }
+    for (const auto& a : p.arrows) {
+      grow(a.from);
+      grow(a.to);
+    }
+    if (!(x1 >= x0)) x0 = -1, x1 = 1, y0 = -1, y1 = 1;
+    dx = std::max(x1 - x0, 1e-6), dy = std::max(y1 - y0, 1e-6);
+    x0 -= 0.05 * dx, x1 += 0.05 * dx, y0 -= 0.05 * dy, y1 += 0.05 * dy;
+    dx = x1 - x0, dy = y1 - y0;
+  }
+  if (p.equal_aspect) {
+    const double d = std::max(dx, dy);
+    x0 -= (d - dx) / 2, x1 = x0 + d, y0 -= (d - dy) / 2, y1 = y0 + d;
+    dx = dy = d;
+  }
+  return {x0, x1, y0, y1, dx, dy};
+}
+
+// Panel k at (ox, oy), S px square: its frame, grid, titles, content (clipped to fixed
+// limits), legend and notes.
+void writePanel(std::ostream& f, const SvgPanel& p, int k, double ox, double oy, int S) {
+  const Window w = panelWindow(p);
+  auto X = [&](double x) { return ox + (x - w.x0) / w.dx * S; };
+  auto Y = [&](double y) { return oy + S - (y - w.y0) / w.dy * S; };
+  // The frame comes first in the panel's group (tests find a panel by it).
+  f << "<g>\n<rect x=\"" << ox << "\" y=\"" << oy << "\" width=\"" << S << "\" height=\"" << S
+    << "\" fill=\"none\" stroke=\"#444\"/>\n";
+  const double sx = niceStep(w.dx), sy = niceStep(w.dy);
+  for (double t = std::ceil(w.x0 / sx) * sx; t <= w.x1 + 1e-9 * sx; t += sx)
+    f << "<line x1=\"" << X(t) << "\" y1=\"" << oy << "\" x2=\"" << X(t) << "\" y2=\"" << oy + S
+      << "\" stroke=\"#eee\"/><text x=\"" << X(t) << "\" y=\"" << oy + S + 15 << "\" text-anchor=\"middle\">"
+      << tickLabel(t, sx) << "</text>\n";
+  for (double t = std::ceil(w.y0 / sy) * sy; t <= w.y1 + 1e-9 * sy; t += sy)
+    f << "<line x1=\"" << ox << "\" y1=\"" << Y(t) << "\" x2=\"" << ox + S << "\" y2=\"" << Y(t)
+      << "\" stroke=\"#eee\"/><text x=\"" << ox - 5 << "\" y=\"" << Y(t) + 4 << "\" text-anchor=\"end\">"
+      << tickLabel(t, sy) << "</text>\n";
+  f << "<text x=\"" << ox + S / 2.0 << "\" y=\"" << oy - 8 << "\" text-anchor=\"middle\" font-weight=\"bold\">"
+    << escaped(p.title) << "</text>\n";
+  f << "<text x=\"" << ox + S / 2.0 << "\" y=\"" << oy + S + 35 << "\" text-anchor=\"middle\">"
+    << escaped(p.xlabel) << "</text>\n";
+  f << "<text transform=\"translate(" << ox - 45 << "," << oy + S / 2.0 << ") rotate(-90)\" text-anchor=\"middle\">"
+    << escaped(p.ylabel) << "</text>\n";
+  // With fixed limits, what lies outside them is clipped to the frame.
+  if (p.limits) {
+    f << "<clipPath id=\"panel" << k << "\"><rect x=\"" << ox << "\" y=\"" << oy << "\" width=\"" << S
+      << "\" height=\"" << S << "\"/></clipPath>\n<g clip-path=\"url(#panel" << k << ")\">\n";
+  }
+  for (const auto& l : p.lines) {
+    if (l.pts.size() < 2) continue;
+    f << "<polyline fill=\"none\" stroke=\"" << l.colour << "\" stroke-width=\"" << l.width << "\""
+      << (l.dashed ? " stroke-dasharray=\"5,4\"" : "") << " points=\"";
+    for (const auto& q : l.pts)
+      if (q.allFinite()) f << X(q.x()) << "," << Y(q.y()) << " ";
+    f << "\"/>\n";
+  }
+  for (const auto& a : p.arrows)
+    f << "<line x1=\"" << X(a.from.x()) << "\" y1=\"" << Y(a.from.y()) << "\" x2=\"" << X(a.to.x()) << "\" y2=\""
+      << Y(a.to.y()) << "\" stroke=\"" << a.colour << "\" stroke-width=\"1\"/>\n";
+  for (const auto& m : p.markers) {
+    if (!m.p.allFinite()) continue;
+    f << "<circle cx=\"" << X(m.p.x()) << "\" cy=\"" << Y(m.p.y()) << "\" r=\"" << std::max(2.0, m.radius / w.dx * S)
+      << "\" " << (m.filled ? "fill=\"" + m.colour + "\"" : "fill=\"none\" stroke=\"" + m.colour + "\"")
+      << "/>\n";
+  }
+  if (p.limits) f << "</g>\n";
+  // Legend of the labelled lines (upper left) and notes (lower right).
+  int li = 0;
+  for (const auto& l : p.lines) {
+    if (l.label.empty()) continue;
+    const double ly = oy + 14 + 14 * li++;
+    f << "<line x1=\"" << ox + 8 << "\" y1=\"" << ly - 4 << "\" x2=\"" << ox + 26 << "\" y2=\"" << ly - 4
+      << "\" stroke=\"" << l.colour << "\" stroke-width=\"2\"/><text x=\"" << ox + 30 << "\" y=\"" << ly << "\">"
+      << escaped(l.label) << "</text>\n";
+  }
+  const int nn = static_cast<int>(p.notes.size());
+  for (int i = 0; i < nn; ++i)
+    f << "<text x=\"" << ox + S - 6 << "\" y=\"" << oy + S - 6 - 14 * (nn - 1 - i) << "\" text-anchor=\"end\">"
+      << escaped(p.notes[static_cast<std::size_t>(i)]) << "</text>\n";
+  f << "</g>\n";
+}
+
+}  // namespace
+
 bool SvgFigure::write(const std::string& path, int S) const {
-  std::ofstream f(path);
+  // Written under a temporary name and renamed: a killed run leaves the old figure or the new.
+  const std::string tmp = path + ".tmp-" + std::to_string(static_cast<long>(::getpid()));
+  std::ofstream f(tmp);
   if (!f) return false;
   const int margin_l = 60, margin_b = 45, margin_t = 40, gap = 30, header = 10;
   const int n = static_cast<int>(panels_.size());
@@ -72,102 +189,9 @@ bool SvgFigure::write(const std::string& path, int S) const {
     << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
   f << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   f << "<text x=\"10\" y=\"20\" font-size=\"15\" font-weight=\"bold\">" << escaped(title_) << "</text>\n";
-  for (int k = 0; k < n; ++k) {
-    const SvgPanel& p = panels_[static_cast<std::size_t>(k)];
-    double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
-    double dx = 0, dy = 0;
-    if (p.limits) {
-      x0 = (*p.limits)[0], x1 = (*p.limits)[1], y0 = (*p.limits)[2], y1 = (*p.limits)[3];
-      if (!(x1 > x0)) x0 -= 1, x1 = x0 + 2;
-      if (!(y1 > y0)) y0 -= 1, y1 = y0 + 2;
-      dx = x1 - x0, dy = y1 - y0;
-    } else {
-      auto grow = [&](const Point& q) {
-        if (!q.allFinite()) return;
-        x0 = std::min(x0, q.x());
-        x1 = std::max(x1, q.x());
-        y0 = std::min(y0, q.y());
-        y1 = std::max(y1, q.y());
-      };
-      for (const auto& l : p.lines)
-        for (const auto& q : l.pts) grow(q);
-      for (const auto& m : p.markers) {
-        grow(m.p + Point(m.radius, m.radius));
-        grow(m.p - Point(m.radius, m.radius));
-      }
-      for (const auto& a : p.arrows) {
-        grow(a.from);
-        grow(a.to);
-      }
-      if (!(x1 >= x0)) x0 = -1, x1 = 1, y0 = -1, y1 = 1;
-      dx = std::max(x1 - x0, 1e-6), dy = std::max(y1 - y0, 1e-6);
-      x0 -= 0.05 * dx, x1 += 0.05 * dx, y0 -= 0.05 * dy, y1 += 0.05 * dy;
-      dx = x1 - x0, dy = y1 - y0;
-    }
-    if (p.equal_aspect) {
-      const double d = std::max(dx, dy);
-      x0 -= (d - dx) / 2, x1 = x0 + d, y0 -= (d - dy) / 2, y1 = y0 + d;
-      dx = dy = d;
-    }
-    const double ox = 10 + (k % cols) * cell_w + margin_l, oy = header + (k / cols) * cell_h + margin_t;
-    auto X = [&](double x) { return ox + (x - x0) / dx * S; };
-    auto Y = [&](double y) { return oy + S - (y - y0) / dy * S; };
-    // The frame comes first in the panel's group (tests find a panel by it).
-    f << "<g>\n<rect x=\"" << ox << "\" y=\"" << oy << "\" width=\"" << S << "\" height=\"" << S
-      << "\" fill=\"none\" stroke=\"#444\"/>\n";
-    const double sx = niceStep(dx), sy = niceStep(dy);
-    for (double t = std::ceil(x0 / sx) * sx; t <= x1 + 1e-9 * sx; t += sx)
-      f << "<line x1=\"" << X(t) << "\" y1=\"" << oy << "\" x2=\"" << X(t) << "\" y2=\"" << oy + S
-        << "\" stroke=\"#eee\"/><text x=\"" << X(t) << "\" y=\"" << oy + S + 15 << "\" text-anchor=\"middle\">"
-        << tickLabel(t, sx) << "</text>\n";
-    for (double t = std::ceil(y0 / sy) * sy; t <= y1 + 1e-9 * sy; t += sy)
-      f << "<line x1=\"" << ox << "\" y1=\"" << Y(t) << "\" x2=\"" << ox + S << "\" y2=\"" << Y(t)
-        << "\" stroke=\"#eee\"/><text x=\"" << ox - 5 << "\" y=\"" << Y(t) + 4 << "\" text-anchor=\"end\">"
-        << tickLabel(t, sy) << "</text>\n";
-    f << "<text x=\"" << ox + S / 2.0 << "\" y=\"" << oy - 8 << "\" text-anchor=\"middle\" font-weight=\"bold\">"
-      << escaped(p.title) << "</text>\n";
-    f << "<text x=\"" << ox + S / 2.0 << "\" y=\"" << oy + S + 35 << "\" text-anchor=\"middle\">"
-      << escaped(p.xlabel) << "</text>\n";
-    f << "<text transform=\"translate(" << ox - 45 << "," << oy + S / 2.0 << ") rotate(-90)\" text-anchor=\"middle\">"
-      << escaped(p.ylabel) << "</text>\n";
-    // With fixed limits, what lies outside them is clipped to the frame.
-    if (p.limits) {
-      f << "<clipPath id=\"panel" << k << "\"><rect x=\"" << ox << "\" y=\"" << oy << "\" width=\"" << S
-        << "\" height=\"" << S << "\"/></clipPath>\n<g clip-path=\"url(#panel" << k << ")\">\n";
-    }
-    for (const auto& l : p.lines) {
-      if (l.pts.size() < 2) continue;
-      f << "<polyline fill=\"none\" stroke=\"" << l.colour << "\" stroke-width=\"" << l.width << "\""
-        << (l.dashed ? " stroke-dasharray=\"5,4\"" : "") << " points=\"";
-      for (const auto& q : l.pts)
-        if (q.allFinite()) f << X(q.x()) << "," << Y(q.y()) << " ";
-      f << "\"/>\n";
-    }
-    for (const auto& a : p.arrows)
-      f << "<line x1=\"" << X(a.from.x()) << "\" y1=\"" << Y(a.from.y()) << "\" x2=\"" << X(a.to.x()) << "\" y2=\""
-        << Y(a.to.y()) << "\" stroke=\"" << a.colour << "\" stroke-width=\"1\"/>\n";
-    for (const auto& m : p.markers) {
-      if (!m.p.allFinite()) continue;
-      f << "<circle cx=\"" << X(m.p.x()) << "\" cy=\"" << Y(m.p.y()) << "\" r=\"" << std::max(2.0, m.radius / dx * S)
-        << "\" " << (m.filled ? "fill=\"" + m.colour + "\"" : "fill=\"none\" stroke=\"" + m.colour + "\"")
-        << "/>\n";
-    }
-    if (p.limits) f << "</g>\n";
-    // Legend of the labelled lines (upper left) and notes (lower right).
-    int li = 0;
-    for (const auto& l : p.lines) {
-      if (l.label.empty()) continue;
-      const double ly = oy + 14 + 14 * li++;
-      f << "<line x1=\"" << ox + 8 << "\" y1=\"" << ly - 4 << "\" x2=\"" << ox + 26 << "\" y2=\"" << ly - 4
-        << "\" stroke=\"" << l.colour << "\" stroke-width=\"2\"/><text x=\"" << ox + 30 << "\" y=\"" << ly << "\">"
-        << escaped(l.label) << "</text>\n";
-    }
-    const int nn = static_cast<int>(p.notes.size());
-    for (int i = 0; i < nn; ++i)
-      f << "<text x=\"" << ox + S - 6 << "\" y=\"" << oy + S - 6 - 14 * (nn - 1 - i) << "\" text-anchor=\"end\">"
-        << escaped(p.notes[static_cast<std::size_t>(i)]) << "</text>\n";
-    f << "</g>\n";
-  }
+  for (int k = 0; k < n; ++k)
+    writePanel(f, panels_[static_cast<std::size_t>(k)], k, 10 + (k % cols) * cell_w + margin_l,
+               header + (k / cols) * cell_h + margin_t, S);
   // Footer: the colour scale, then the captions.
   double fy = header + rows * cell_h + 10;
   if (!scale_colours_.empty()) {
@@ -184,7 +208,12 @@ bool SvgFigure::write(const std::string& path, int S) const {
     fy += 16;
   }
   f << "</svg>\n";
-  return bool(f);
+  const bool written = bool(f.flush());
+  f.close();
+  std::error_code ec;
+  if (written) std::filesystem::rename(tmp, path, ec);
+  if (!written || ec) std::filesystem::remove(tmp, ec);
+  return written && !ec;
 }
 
 }  // namespace lieservo::plot

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
+#include <sstream>
+
+#include <lieservo_cli/program.hpp>
 
 #include <lieservo_plot/svg_figure.hpp>
 
@@ -108,7 +110,7 @@ bool writeIndex(const std::string& dir, const std::string& heading, const std::v
   auto belongs = [&](const std::string& rel) {
     return std::find(plot_folders.begin(), plot_folders.end(), folderOf(rel)) != plot_folders.end();
   };
-  std::ofstream f(dir + "/index.html");
+  std::ostringstream f;
   f << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>lieservo results</title>\n"
        "<style>body{font-family:sans-serif;margin:2em}table{border-collapse:collapse}"
        "td,th{border:1px solid #ccc;padding:2px 6px}.no{color:#b00;font-weight:bold}"
@@ -150,7 +152,8 @@ bool writeIndex(const std::string& dir, const std::string& heading, const std::v
   f << "<h2>Logs</h2>\n<ul>\n";
   for (const auto& x : logs) f << "<li><a href=\"" << html(x) << "\">" << html(x) << "</a></li>\n";
   f << "</ul>\n</body></html>\n";
-  return bool(f);
+  std::string why;
+  return lieservo::cli::writeFileAtomically(dir + "/index.html", f.str(), why);
 }
 
 
