@@ -67,24 +67,16 @@ bool readCache(const std::string& path, const std::string& key, std::size_t n, b
 
 void writeCache(const std::string& path, const std::string& key, const RawOutputs& r) {
   const std::string tmp = cli::temporaryBeside(path);
-  {
-    std::ofstream out(tmp);
-    if (!out) return;  // a cache is optional
-    out << kCacheMagic << "\n" << key << "\n" << std::setprecision(9);
-    for (std::size_t i = 0; i < r.gdn.size(); ++i) {
-      for (std::size_t j = 0; j < 12; ++j) out << r.gdn[i][j] << ' ';
-      if (!r.cnn.empty())
-        for (std::size_t j = 0; j < 6; ++j) out << r.cnn[i][j] << ' ';
-      out << '\n';
-    }
-    if (!out.flush()) {
-      out.close();
-      std::remove(tmp.c_str());
-      return;
-    }
+  std::ofstream out(tmp);
+  if (!out) return;  // a cache is optional
+  out << kCacheMagic << "\n" << key << "\n" << std::setprecision(9);
+  for (std::size_t i = 0; i < r.gdn.size(); ++i) {
+    for (std::size_t j = 0; j < 12; ++j) out << r.gdn[i][j] << ' ';
+    if (!r.cnn.empty())
+      for (std::size_t j = 0; j < 6; ++j) out << r.cnn[i][j] << ' ';
+    out << '\n';
   }
-  std::string why;
-  (void)cli::commitTemporary(tmp, path, why);  // optional: the next run recomputes
+  (void)cli::finishTemporary(out, tmp, path);  // optional: a failed write leaves the old cache, the next run recomputes
 }
 
 namespace {

@@ -1,17 +1,18 @@
 // SVG figures (see lieservo_plot/svg_figure.hpp).
 #include "lieservo_plot/svg_figure.hpp"
 
-#include <unistd.h>
+#include <lieservo_cli/program.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <limits>
 
 namespace lieservo::plot {
+
+namespace cli = lieservo::cli;
 
 namespace {
 
@@ -173,7 +174,7 @@ void writePanel(std::ostream& f, const SvgPanel& p, int k, double ox, double oy,
 
 bool SvgFigure::write(const std::string& path, int S) const {
   // Written under a temporary name and renamed: a killed run leaves the old figure or the new.
-  const std::string tmp = path + ".tmp-" + std::to_string(static_cast<long>(::getpid()));
+  const std::string tmp = cli::temporaryBeside(path);
   std::ofstream f(tmp);
   if (!f) return false;
   const int margin_l = 60, margin_b = 45, margin_t = 40, gap = 30, header = 10;
@@ -208,12 +209,7 @@ bool SvgFigure::write(const std::string& path, int S) const {
     fy += 16;
   }
   f << "</svg>\n";
-  const bool written = bool(f.flush());
-  f.close();
-  std::error_code ec;
-  if (written) std::filesystem::rename(tmp, path, ec);
-  if (!written || ec) std::filesystem::remove(tmp, ec);
-  return written && !ec;
+  return cli::finishTemporary(f, tmp, path);
 }
 
 }  // namespace lieservo::plot

@@ -1,7 +1,7 @@
 // CSV logs and output folders (see lieservo_sim/csv_log.hpp).
 #include "lieservo_sim/csv_log.hpp"
 
-#include <unistd.h>
+#include <lieservo_cli/program.hpp>
 
 #include <filesystem>
 #include <iomanip>
@@ -11,7 +11,7 @@ namespace lieservo::sim {
 bool CsvWriter::open(const std::string& path, const std::vector<std::string>& header) {
   close();
   path_ = path;
-  tmp_ = path + ".tmp-" + std::to_string(static_cast<long>(::getpid()));
+  tmp_ = lieservo::cli::temporaryBeside(path);
   out_.open(tmp_);
   if (!out_) return false;
   for (std::size_t i = 0; i < header.size(); ++i) out_ << (i ? "," : "") << header[i];
@@ -28,12 +28,7 @@ void CsvWriter::row(const std::vector<double>& v) {
 
 bool CsvWriter::close() {
   if (!out_.is_open()) return false;
-  const bool written = bool(out_.flush());
-  out_.close();
-  std::error_code ec;
-  if (written) std::filesystem::rename(tmp_, path_, ec);
-  if (!written || ec) std::filesystem::remove(tmp_, ec);
-  return written && !ec;
+  return lieservo::cli::finishTemporary(out_, tmp_, path_);
 }
 
 bool makeDirectories(const std::string& path) {

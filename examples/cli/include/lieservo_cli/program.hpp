@@ -85,20 +85,28 @@ inline bool commitTemporary(const std::string& tmp, const std::string& path, std
   return false;
 }
 
+/// Finishes `out`, opened on `tmp` (temporaryBeside(path)): flushed and closed, then renamed
+/// to `path` when all of it was written, removed otherwise. True when `path` now holds it.
+inline bool finishTemporary(std::ofstream& out, const std::string& tmp, const std::string& path) {
+  const bool written = bool(out.flush());
+  out.close();
+  std::error_code ec;
+  if (written) std::filesystem::rename(tmp, path, ec);
+  if (!written || ec) std::filesystem::remove(tmp, ec);
+  return written && !ec;
+}
+
 /// Writes `content` to `path` under a temporary name, then renames it: all or nothing.
 inline bool writeFileAtomically(const std::string& path, const std::string& content, std::string& why) {
   const std::string tmp = temporaryBeside(path);
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (out) out << content;
-    if (!out || !out.flush()) {
-      out.close();
-      std::remove(tmp.c_str());
-      why = path + ": cannot write it";
-      return false;
-    }
+  std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+  if (out) out << content;
+  if (!out || !finishTemporary(out, tmp, path)) {
+    std::remove(tmp.c_str());
+    why = path + ": cannot write it";
+    return false;
   }
-  return commitTemporary(tmp, path, why);
+  return true;
 }
 
 /// The marker a program leaves in an output folder it made; a later run may write there again.
