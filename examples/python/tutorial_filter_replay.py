@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Tutorial (Python): the SE(3) Bayes filter on real TacTip images, as the paper's Table 2.
 
-What you will see: the GDN (the project's ONNX model, run by OpenCV's dnn module) predicts the
-contact pose and shear ξ with an uncertainty σ from each tactile image; `lieservo` turns each
+What you will see: the GDN (the project's ONNX model, run by OpenCV's dnn module as its model card
+says: input size, output units, σ calibration, SHA-256) predicts the contact pose and shear ξ with
+an uncertainty σ from each tactile image; `lieservo` turns each
 (μ, σ) into a concentrated Gaussian on SE(3) and filters the sequence. The filter knows how the
 sensor moved between two images (the robot's own motion, with noise of σψ), so the smaller σψ,
 the more it can average the network's errors away.
@@ -15,6 +16,8 @@ The data set: the shared TacTip validation split (an unseen session for the netw
 """
 import argparse
 import csv
+import hashlib
+import json
 import math
 import os
 import sys
@@ -46,11 +49,34 @@ def read_split(split_dir, n):
     return paths, np.array(labels)
 
 
-# ---- 2. the network: μ and σ for every image -------------------------------------------------
-def run_gdn(onnx_path, paths, batch=50):
-    """The GDN's (μ, σ) in library units (mm, rad). Pre-processing as the model card says:
-    8-bit grey → 128 × 128 (INTER_AREA) → float32 / 255."""
-    net = cv2.dnn.readNetFromONNX(onnx_path)
+# ---- 2. the network's card: what it takes and what its outputs mean --------------------------
+UNIT = {"mm": 1.0, "deg": DEG, "degree": DEG, "degrees": DEG, "rad": 1.0, "radian": 1.0, "radians": 1.0}
+
+
+def read_card(models_dir):
+    """The GDN's entry of model_card.json, read as the C++ adapters read it (ModelCard): its ONNX
+    file (checked against the card's SHA-256), its input size, the unit of each μ component
+    (library units are mm and rad) and its σ calibration (1 when the card has none)."""
+    path = os.path.join(models_dir, "model_card.json")
+    gdn = json.load(open(path))["models"]["gdn"]
+    onnx = os.path.join(models_dir, gdn.get("file", "gdn.onnx"))
+    digest = hashlib.sha256(open(onnx, "rb").read()).hexdigest()
+    if gdn.get("sha256") and digest != gdn["sha256"]:
+        raise SystemExit(f"{onnx}: SHA-256 {digest} does not match the card's {gdn['sha256']}")
+    units = gdn["output"]["units"]  # "mu: mm, mm, mm, deg, deg, deg; sigma_inv: ..." or a list
+    if isinstance(units, str):
+        units = units.split("mu:")[-1].split(";")[0].split(",")
+    scale = gdn.get("sigma_calibration", {}).get("scale", [1.0] * 6)
+    return {"onnx": onnx, "size": int(gdn["input"]["shape"][-1]),
+            "to_library": np.array([UNIT[u.strip()] for u in units[:6]]), "sigma_scale": np.array(scale, float)}
+
+
+# ---- 3. the network: μ and σ for every image -------------------------------------------------
+def run_gdn(card, paths, batch=50):
+    """The GDN's (μ, σ) in library units (mm, rad), σ calibrated as its card says. Pre-processing
+    as the card says: 8-bit grey → size × size (INTER_AREA) → float32 / 255."""
+    net = cv2.dnn.readNetFromONNX(card["onnx"])
+    size = card["size"]
     mu, sigma = [], []
     for start in range(0, len(paths), batch):
         images = []
@@ -58,13 +84,11 @@ def run_gdn(onnx_path, paths, batch=50):
             img = cv2.imread(p, cv2.IMREAD_GRAYSCALE)
             if img is None:
                 raise SystemExit(f"cannot read {p}")
-            images.append(cv2.resize(img, (128, 128), interpolation=cv2.INTER_AREA).astype(np.float32) / 255)
+            images.append(cv2.resize(img, (size, size), interpolation=cv2.INTER_AREA).astype(np.float32) / 255)
         net.setInput(np.stack(images)[:, None, :, :])
-        out = net.forward().astype(np.float64)   # (N, 12): μ then σ⁻¹, in mm and DEGREES
-        m, s_inv = out[:, :6].copy(), out[:, 6:]
-        s = 1.0 / s_inv
-        m[:, 3:] *= DEG                            # deg → rad
-        s[:, 3:] *= DEG                            # σ in deg → rad
+        out = net.forward().astype(np.float64)   # (N, 12): μ then σ⁻¹, in the card's units
+        m = out[:, :6] * card["to_library"]       # e.g. deg → rad
+        s = card["sigma_scale"] / out[:, 6:] * card["to_library"]
         mu.append(m)
         sigma.append(s)
     return np.vstack(mu), np.vstack(sigma)
@@ -77,7 +101,7 @@ def report_units(xi):
     return out
 
 
-# ---- 3. the filter over the sequence ----------------------------------------------------------
+# ---- 4. the filter over the sequence ----------------------------------------------------------
 def filter_sequence(labels, observations, sigma_psi, rng):
     """The Table 2 experiment: the sensor's motion between images k−1 and k is the true relative
     motion X_k X_{k−1}⁻¹ disturbed by exp(ψ^), ψ ~ N(0, σψ² 1) (eq. 23, eqn:se3_filter_exp_state_trans_model);
@@ -109,14 +133,14 @@ def main():
                     help="exit 1 unless the smallest σψ lowers the error of every component")
     a = ap.parse_args()
     split = os.path.join(a.data, "val")
-    onnx = os.path.join(a.models, "gdn.onnx")
-    for need in (os.path.join(split, "targets.csv"), onnx):
+    for need in (os.path.join(split, "targets.csv"), os.path.join(a.models, "model_card.json"),
+                 os.path.join(a.models, "gdn.onnx")):
         if not os.path.exists(need):
             print(f"tutorial skipped: {need} is missing")
             return 77
 
     paths, labels = read_split(split, a.n)
-    mu, sigma = run_gdn(onnx, paths)
+    mu, sigma = run_gdn(read_card(a.models), paths)
     # Each network output as a concentrated Gaussian: X̄ = exp(μ^), Σ = J(μ) diag(σ²) J(μ)ᵀ.
     observations = [ls.from_tangent_gaussian(m, s) for m, s in zip(mu, sigma)]
 

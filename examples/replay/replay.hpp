@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include <lieservo_dataset/paper_tables.hpp>
+
 #include "lieservo/estimation/concentrated_gaussian.hpp"
 #include "lieservo/estimation/fusion.hpp"
 #include "lieservo/groups/se3.hpp"
@@ -188,19 +190,6 @@ bool paperFilterRatio(double sigma_psi, std::size_t j, double& ratio);
 inline constexpr double kTable2Tolerance = 0.15;
 
 // The paper's numbers (means over 10 models, test set), for the report.
-struct PaperTables {
-  static constexpr Vec6 cnn_mae{0.448, 0.451, 0.164, 0.88, 1.04, 1.44};
-  static constexpr Vec6 gdn_mae{0.426, 0.422, 0.123, 0.45, 0.64, 1.16};
-  static constexpr double cnn_mse = 1.43;
-  static constexpr double gdn_nll = -7.20;
-  static constexpr std::array<double, 4> sigma{10.0, 1.0, 0.1, 0.01};
-  /// Table 2 rows by σψ = ∞, 10, 1, 0.1, 0.01 (the ∞ column of ω_x reads 0.50 in Table 2
-  /// but 0.45 in Table 1).
-  static constexpr std::array<Vec6, 5> filter_mae{{{0.426, 0.422, 0.123, 0.50, 0.64, 1.16},
-                                                   {0.422, 0.421, 0.123, 0.49, 0.62, 1.15},
-                                                   {0.360, 0.352, 0.121, 0.40, 0.42, 0.82},
-                                                   {0.160, 0.161, 0.098, 0.18, 0.18, 0.30},
-                                                   {0.062, 0.065, 0.069, 0.08, 0.07, 0.11}}};
-};
+using dataset::PaperTables;
 
 }  // namespace lieservo::replay

@@ -22,14 +22,16 @@ void addObservationOptions(CLI::App& app, ObservationChoice& choice, bool with_c
                    "paper's) or the paper's Table 1")
         ->capture_default_str()
         ->check(CLI::IsMember({"card", "paper"}));
-  choice.card_option = app.add_option("--model-card", choice.model_card,
-                                      "the GDN's model card: its measured MAE calibrates the Gaussian "
-                                      "model, its network runs the 'real' mode")
-                           ->capture_default_str();
+  // Noted while parsing (the App, and its options, do not outlive the parse).
+  app.add_option("--model-card", choice.model_card,
+                 "the GDN's model card: its measured MAE calibrates the Gaussian model, its network runs the "
+                 "'real' mode")
+      ->capture_default_str()
+      ->each([&choice](const std::string&) { choice.card_given = true; });
 }
 
 int setUpObservations(const ObservationChoice& choice, TaskOptions& opt, std::string& note) {
-  const bool card_given = choice.card_option && choice.card_option->count() > 0;
+  const bool card_given = choice.card_given;
   if (choice.calibration == "card" && !GdnCalibration::fromModelCard(choice.model_card, opt.calibration)) {
     if (card_given) {
       std::fprintf(stderr, "--model-card %s: cannot read models.gdn's measured MAE from it\n",

@@ -23,7 +23,7 @@ struct ObservationChoice {
   std::string data_dir = LIESERVO_DEFAULT_DATA_DIR;
   std::string model_card = LIESERVO_SIM_MODEL_CARD;
   std::string calibration = "card";
-  CLI::Option* card_option = nullptr;  ///< set by addObservationOptions: given on the command line?
+  bool card_given = false;  ///< --model-card was on the command line (set while parsing)
 };
 
 /// Adds the options above to `app`; `with_calibration` adds --calibration.

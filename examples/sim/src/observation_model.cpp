@@ -6,11 +6,13 @@
 #include <exception>
 
 #include <lieservo_dataset/json.hpp>
+#include <lieservo_dataset/paper_tables.hpp>
 
 namespace lieservo::sim {
 
 GdnCalibration GdnCalibration::paperTable1() {
-  return fromValues((Vec6() << 0.426, 0.422, 0.123, 0.45, 0.64, 1.16).finished(),
+  const auto& m = dataset::PaperTables::gdn_mae;
+  return fromValues((Vec6() << m[0], m[1], m[2], m[3], m[4], m[5]).finished(),
                     "paper Table 1 (tab:nn_pose_shear_estimate_results), GDN test MAE");
 }
 

@@ -85,7 +85,7 @@ typename G::Point act(const G& X, const typename G::Point& p,
                       Eigen::Matrix<typename G::Scalar, G::Point::RowsAtCompileTime, G::DoF>& J_X,
                       Eigen::Matrix<typename G::Scalar, G::Point::RowsAtCompileTime, G::Point::RowsAtCompileTime>& J_p) {
   constexpr int P = G::Point::RowsAtCompileTime;
-  constexpr int rotation_dof = P == 2 ? 1 : 3;  // the tangent's rotation part comes last
+  constexpr int rotation_dof = G::RotationDoF;  // the tangent's rotation part comes last
   const typename G::Point q = X * p;
   if constexpr (P == 2) {
     J_X.template rightCols<1>() << -q(1), q(0);  // d/dθ of R(θ) q at θ = 0

@@ -22,6 +22,7 @@ class SE2 : public LieGroupBase<SE2<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
   using Real = detail::RealOf<Scalar>;  ///< the real type behind Scalar
   static constexpr int DoF = 3;  ///< tangent dimension
   static constexpr int Dim = 2;  ///< dimension of the space it moves
+  static constexpr int RotationDoF = 1;  ///< rotational part of the tangent, its tail (ξ = [ρ; φ])
   using Tangent = Eigen::Matrix<Scalar, 3, 1>;  ///< ξ = [ρ; θ]
   using Jacobian = Eigen::Matrix<Scalar, 3, 3>;  ///< DoF × DoF
   using Point = Eigen::Matrix<Scalar, 2, 1>;  ///< a point of the plane

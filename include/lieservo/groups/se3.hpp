@@ -30,6 +30,7 @@ class SE3 : public LieGroupBase<SE3<Scalar_>, Eigen::Matrix<Scalar_, 6, 1>, Eige
   using Real = detail::RealOf<Scalar>;  ///< the real type behind Scalar
   static constexpr int DoF = 6;  ///< tangent dimension
   static constexpr int Dim = 3;  ///< dimension of the space it moves
+  static constexpr int RotationDoF = 3;  ///< rotational part of the tangent, its tail (ξ = [ρ; φ])
   using Tangent = Eigen::Matrix<Scalar, 6, 1>;  ///< ξ = [ρ; φ]
   using Jacobian = Eigen::Matrix<Scalar, 6, 6>;  ///< DoF × DoF
   using Point = Eigen::Matrix<Scalar, 3, 1>;  ///< a point of space

@@ -24,6 +24,7 @@ class SO2 : public LieGroupBase<SO2<Scalar_>, Eigen::Matrix<Scalar_, 1, 1>, Eige
   using Real = detail::RealOf<Scalar>;         ///< the real type behind Scalar
   static constexpr int DoF = 1;                ///< tangent dimension
   static constexpr int Dim = 2;                ///< dimension of the space it rotates
+  static constexpr int RotationDoF = 1;  ///< rotational part of the tangent, its tail (ξ = [ρ; φ])
   using Tangent = Eigen::Matrix<Scalar, 1, 1>;   ///< θ (rad)
   using Jacobian = Eigen::Matrix<Scalar, 1, 1>;  ///< DoF × DoF
   using Point = Eigen::Matrix<Scalar, 2, 1>;     ///< a point of the plane

@@ -29,6 +29,7 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
   using Real = detail::RealOf<Scalar>;  ///< the real type behind Scalar
   static constexpr int DoF = 3;  ///< tangent dimension
   static constexpr int Dim = 3;  ///< dimension of the space it rotates
+  static constexpr int RotationDoF = 3;  ///< rotational part of the tangent, its tail (ξ = [ρ; φ])
   using Tangent = Eigen::Matrix<Scalar, 3, 1>;  ///< φ, the rotation vector (rad)
   using Jacobian = Eigen::Matrix<Scalar, 3, 3>;  ///< DoF × DoF
   using Point = Eigen::Matrix<Scalar, 3, 1>;  ///< a point of space

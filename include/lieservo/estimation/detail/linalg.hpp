@@ -16,11 +16,11 @@
 namespace lieservo {
 namespace detail {
 
-/// Number of rotational degrees of freedom of G (1 for SO(2)/SE(2), 3 for SO(3)/SE(3)): by the
-/// library's convention ξ = [ρ; φ], the rotation is the tail of the tangent vector.
+/// Number of rotational degrees of freedom of G (G::RotationDoF: 1 for SO(2)/SE(2), 3 for
+/// SO(3)/SE(3)): by the library's convention ξ = [ρ; φ], the rotation is the tail of the tangent.
 template <class G>
 constexpr int rotationDoF() noexcept {
-  return G::Dim * (G::Dim - 1) / 2;
+  return G::RotationDoF;
 }
 
 /// Rotation angle |φ| of a tangent vector ξ = [ρ; φ].
