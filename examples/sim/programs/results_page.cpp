@@ -40,8 +40,7 @@ bool writePushingSummaryFigure(const std::string& path, const std::vector<const 
     for (std::size_t i = 0; i < cases.size(); ++i) {
       const PushingCase& c = cases[i];
       const double y = double(i) + 1;  // case i + 1 at height i + 1
-      const PaperValue pv = c.setup.dual_arm ? paperDualArm(c.setup.object.name, c.setup.surface.name, c.setup.tall)
-                                             : paperSingleArm(c.setup.object.name, c.setup.surface.name);
+      const PaperValue pv = paperValue(c);
       if (std::isfinite(c.mean_error)) {
         p.line({{std::max(0.0, c.mean_error - c.sd_error), y + 0.15}, {c.mean_error + c.sd_error, y + 0.15}},
                "#1f5fbf", 2.0, false, i == 0 ? "simulation" : "");

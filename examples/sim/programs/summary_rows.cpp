@@ -69,8 +69,7 @@ void addFollowingRows(const FollowingResult& fr, std::vector<Row>& rows) {
 
 void addPushingRows(const PushingResult& r, const char* task, std::vector<Row>& rows) {
   for (const auto& c : r.cases) {
-    const PaperValue pv = c.setup.dual_arm ? paperDualArm(c.setup.object.name, c.setup.surface.name, c.setup.tall)
-                                           : paperSingleArm(c.setup.object.name, c.setup.surface.name);
+    const PaperValue pv = paperValue(c);
     rows.push_back({task, caseLabel(c), pm(c.mean_error, c.sd_error), pm(pv.mean, pv.sd), c.success || !c.judged,
                     c.judged});
   }

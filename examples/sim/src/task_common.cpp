@@ -159,4 +159,9 @@ PaperValue paperDualArm(const std::string& o, const std::string& s, bool tall) {
   return {nan, nan};
 }
 
+PaperValue paperValue(const PushingCase& c) {
+  return c.setup.dual_arm ? paperDualArm(c.setup.object.name, c.setup.surface.name, c.setup.tall)
+                          : paperSingleArm(c.setup.object.name, c.setup.surface.name);
+}
+
 }  // namespace lieservo::sim

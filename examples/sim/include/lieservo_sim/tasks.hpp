@@ -295,6 +295,8 @@ struct PaperValue {
 };
 PaperValue paperSingleArm(const std::string& object, const std::string& surface);
 PaperValue paperDualArm(const std::string& object, const std::string& surface, bool tall);
+/// The paper's final target error for a case: its single- or dual-arm table's entry.
+PaperValue paperValue(const PushingCase& c);
 
 /// Success bounds (docs/simulation.md justifies them).
 struct Bounds {
