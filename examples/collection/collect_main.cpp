@@ -29,55 +29,66 @@ namespace {
 volatile std::sig_atomic_t g_stop = 0;
 extern "C" void onSignal(int) { g_stop = 1; }
 
+namespace cli = lieservo::cli;
+
+// The command line: the plan's options, the synthetic source's and the test hooks.
+struct Options {
+  lieservo::collection::CollectionConfig cfg;
+  std::vector<int> image_size{128, 128};
+  std::string source = "synthetic";
+  bool quiet = false;
+};
+
+void addOptions(CLI::App& app, Options& o) {
+  app.add_option("--out", o.cfg.out_dir, "the data set's folder (new, empty, or one it made)")->required()->check(cli::nonEmptyPath());
+  app.add_option("--samples", o.cfg.n_samples, "number of samples in the plan")
+      ->capture_default_str()
+      ->check(cli::integerIn<std::size_t>(1, 100000000));
+  app.add_option("--seed", o.cfg.seed, "seed of the sampling plan")
+      ->capture_default_str()
+      ->check(cli::integerIn<std::uint64_t>(0, std::numeric_limits<std::uint64_t>::max()));
+  app.add_option("--stop-after", o.cfg.stop_after, "stop after K new samples in this run (resume later)")
+      ->check(cli::integerIn<std::size_t>(0, std::numeric_limits<std::size_t>::max()));
+  app.add_flag("--sort-by-depth", o.cfg.sort_by_depth, "order the plan by increasing depth z");
+  const double big = 1e6;
+  app.add_option("--r-max", o.cfg.ranges.r_max_mm, "shear disk radius (mm)")->capture_default_str()->check(cli::finiteIn(0, big));
+  app.add_option("--z-min", o.cfg.ranges.z_min_mm, "least depth (mm)")->capture_default_str()->check(cli::finiteIn(-big, big));
+  app.add_option("--z-max", o.cfg.ranges.z_max_mm, "greatest depth (mm)")->capture_default_str()->check(cli::finiteIn(-big, big));
+  app.add_option("--phi-max", o.cfg.ranges.phi_max_deg, "contact-angle cap half-angle (deg)")
+      ->capture_default_str()
+      ->check(cli::finiteIn(0, 90));
+  app.add_option("--gamma-min", o.cfg.ranges.gamma_min_deg, "least rotational shear (deg)")
+      ->capture_default_str()
+      ->check(cli::finiteIn(-big, big));
+  app.add_option("--gamma-max", o.cfg.ranges.gamma_max_deg, "greatest rotational shear (deg)")
+      ->capture_default_str()
+      ->check(cli::finiteIn(-big, big));
+  app.add_option("--start-height", o.cfg.start_height_mm, "start point above the surface (mm)")
+      ->capture_default_str()
+      ->check(cli::finiteIn(-big, big));
+  app.add_option("--image-size", o.image_size, "synthetic image size W H")
+      ->expected(2)
+      ->capture_default_str()
+      ->check(cli::integerIn(1, 4096));
+  app.add_option("--source", o.source, "image source")->capture_default_str()->check(CLI::IsMember({"synthetic"}));
+  app.add_flag("--quiet", o.quiet, "no progress lines");
+  // Test hooks (tests/collection): terminate while writing sample N, at point P.
+  app.add_option("--crash-at", o.cfg.crash_at)->group("")->check(cli::integerIn<std::size_t>(0, 100000000));
+  app.add_option("--crash-point", o.cfg.crash_point)->group("")->check(cli::integerIn(0, 1));
+}
+
 }  // namespace
 
 static int run(int argc, char** argv) {
   using namespace lieservo::collection;
-  namespace cli = lieservo::cli;
-  CollectionConfig cfg;
-  std::vector<int> image_size{128, 128};
-  std::string source = "synthetic";
-  bool quiet = false;
+  Options o;
+  CollectionConfig& cfg = o.cfg;
   CLI::App app("lieservo_collect: collect (or resume) a pose-and-shear training set (the paper's Algorithm 1).\n"
                "Running the same command again after an interruption resumes at the next sample. Exit status:\n"
                "0 done; 2 bad usage or set-up: a malformed or out-of-range option, an output folder that cannot be\n"
                "written, or a data set that does not match this command (other parameters, a missing image).",
                "lieservo_collect");
-  app.add_option("--out", cfg.out_dir, "the data set's folder (new, empty, or one it made)")->required()->check(cli::nonEmptyPath());
-  app.add_option("--samples", cfg.n_samples, "number of samples in the plan")
-      ->capture_default_str()
-      ->check(cli::integerIn<std::size_t>(1, 100000000));
-  app.add_option("--seed", cfg.seed, "seed of the sampling plan")
-      ->capture_default_str()
-      ->check(cli::integerIn<std::uint64_t>(0, std::numeric_limits<std::uint64_t>::max()));
-  app.add_option("--stop-after", cfg.stop_after, "stop after K new samples in this run (resume later)")
-      ->check(cli::integerIn<std::size_t>(0, std::numeric_limits<std::size_t>::max()));
-  app.add_flag("--sort-by-depth", cfg.sort_by_depth, "order the plan by increasing depth z");
-  const double big = 1e6;
-  app.add_option("--r-max", cfg.ranges.r_max_mm, "shear disk radius (mm)")->capture_default_str()->check(cli::finiteIn(0, big));
-  app.add_option("--z-min", cfg.ranges.z_min_mm, "least depth (mm)")->capture_default_str()->check(cli::finiteIn(-big, big));
-  app.add_option("--z-max", cfg.ranges.z_max_mm, "greatest depth (mm)")->capture_default_str()->check(cli::finiteIn(-big, big));
-  app.add_option("--phi-max", cfg.ranges.phi_max_deg, "contact-angle cap half-angle (deg)")
-      ->capture_default_str()
-      ->check(cli::finiteIn(0, 90));
-  app.add_option("--gamma-min", cfg.ranges.gamma_min_deg, "least rotational shear (deg)")
-      ->capture_default_str()
-      ->check(cli::finiteIn(-big, big));
-  app.add_option("--gamma-max", cfg.ranges.gamma_max_deg, "greatest rotational shear (deg)")
-      ->capture_default_str()
-      ->check(cli::finiteIn(-big, big));
-  app.add_option("--start-height", cfg.start_height_mm, "start point above the surface (mm)")
-      ->capture_default_str()
-      ->check(cli::finiteIn(-big, big));
-  app.add_option("--image-size", image_size, "synthetic image size W H")
-      ->expected(2)
-      ->capture_default_str()
-      ->check(cli::integerIn(1, 4096));
-  app.add_option("--source", source, "image source")->capture_default_str()->check(CLI::IsMember({"synthetic"}));
-  app.add_flag("--quiet", quiet, "no progress lines");
-  // Test hooks (tests/collection): terminate while writing sample N, at point P.
-  app.add_option("--crash-at", cfg.crash_at)->group("")->check(cli::integerIn<std::size_t>(0, 100000000));
-  app.add_option("--crash-point", cfg.crash_point)->group("")->check(cli::integerIn(0, 1));
+  addOptions(app, o);
   if (const int status = cli::parse(app, argc, argv); status >= 0) return status;
   if (cfg.ranges.z_min_mm > cfg.ranges.z_max_mm || cfg.ranges.gamma_min_deg > cfg.ranges.gamma_max_deg) {
     std::cerr << "lieservo_collect: " << (cfg.ranges.z_min_mm > cfg.ranges.z_max_mm ? "--z-min exceeds --z-max"
@@ -85,8 +96,8 @@ static int run(int argc, char** argv) {
               << "\n(lieservo_collect --help lists the options)\n";
     return cli::kUsageOrSetup;
   }
-  if (quiet) cfg.progress = false;
-  const int width = image_size[0], height = image_size[1];
+  if (o.quiet) cfg.progress = false;
+  const int width = o.image_size[0], height = o.image_size[1];
 
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);

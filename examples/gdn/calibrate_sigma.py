@@ -71,12 +71,7 @@ def paired_difference(err_run: np.ndarray, err_base: np.ndarray):
     return d.mean(0), d.std(0, ddof=1) / np.sqrt(len(d))
 
 
-def main(argv=None) -> int:
-    import torch
-    from dataset import default_data_dir, load_split
-    import labels as L
-    from export_onnx import load_ckpt, torch_forward
-
+def parse_args(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument('--run', required=True, help='a train.py --holdout run directory')
     ap.add_argument('--weights', choices=['best', 'last'], default='last')
@@ -89,45 +84,36 @@ def main(argv=None) -> int:
                     'comparison (its MAE per split is printed; e.g. the same recipe trained on train '
                     'only: on the held-out val rows it shows what seeing the val session gained. Its '
                     'own training rows are not excluded, so compare on splits it did not train on)')
-    args = ap.parse_args(argv)
-    torch.set_num_threads(args.threads)
+    return ap.parse_args(argv)
 
-    from train import HOLDOUT_SEEDS, holdout_file
-    # The held-out rows of every session the run trained on (train only, or train and val).
-    held = {}
-    for split in HOLDOUT_SEEDS:
-        p = os.path.join(args.run, holdout_file(split))
-        if os.path.isfile(p):
-            held[split] = np.loadtxt(p, dtype=np.int64, ndmin=1)
-    if 'train' not in held:
-        raise SystemExit(f'{os.path.join(args.run, holdout_file("train"))}: not found '
-                         '(train the run with --holdout N)')
-    ck_path = os.path.join(args.run, f'gdn_{args.weights}.pt')
-    model, ck = load_ckpt(ck_path)
-    if ck['kind'] != 'gdn':
-        raise SystemExit(f'{ck_path}: a {ck["kind"]} checkpoint has no sigma')
 
-    baseline = None
-    if args.baseline_run:
-        bp = os.path.join(args.baseline_run, f'gdn_{args.weights}.pt')
-        if not os.path.isfile(bp):
-            raise SystemExit(f'--baseline-run: {bp} not found (a train.py run directory with GDN weights)')
-        baseline, _ = load_ckpt(bp)
+def held_out_errors(args, held, model, baseline):
+    """Per split: the network's errors and sigma on its held-out rows (network units: mm, deg),
+    the split's size, and the baseline's errors on the same rows (when there is one)."""
+    from dataset import default_data_dir, load_split
+    import labels as L
+    from export_onnx import torch_forward
+
+    def outputs(net, x):
+        return np.concatenate([torch_forward(net, x[i:i + 100]) for i in range(0, len(x), 100)])
+
     errs, sigs, n_total, base_errs = {}, {}, {}, {}
     for split, rows in held.items():
         sp = load_split(args.data or default_data_dir(), split, verbose=False)
         n_total[split] = len(sp.images)
         y = L.to_train_units(L.xi_from_euler6(sp.euler6))[rows]          # mm, deg
         x = sp.images[rows]
-        out = np.concatenate([torch_forward(model, x[i:i + 100]) for i in range(0, len(x), 100)])
+        out = outputs(model, x)
         errs[split] = out[:, :6] - y                                     # network units (mm, deg)
         sigs[split] = 1.0 / out[:, 6:].astype(np.float64)
         if baseline is not None:
-            bout = np.concatenate([torch_forward(baseline, x[i:i + 100]) for i in range(0, len(x), 100)])
-            base_errs[split] = bout[:, :6] - y
+            base_errs[split] = outputs(baseline, x)[:, :6] - y
+    return errs, sigs, n_total, base_errs
+
+
+def print_report(args, held, ck_path, ck, errs, sigs, base_errs, k):
     err = np.concatenate(list(errs.values()))
     sig = np.concatenate(list(sigs.values()))
-    k = sigma_scale(err, sig)
     before, after = coverage_of(err, sig), coverage_of(err, sig * k)
     what = ' + '.join(f'{len(r)} {s}' for s, r in held.items())
     print(f'held-out images: {what}; {ck_path} (epoch {ck.get("epoch")})')
@@ -147,32 +133,64 @@ def main(argv=None) -> int:
     print('coverage after ' + ' '.join(f'{v:7.3f}' for v in after))
     for split in held:
         print(f'cov. {split:<9} ' + ' '.join(f'{v:7.3f}' for v in coverage_of(errs[split], sigs[split] * k)))
+    return before, after, what
 
+
+def write_calibration(args, argv, ck, held, n_total, k, before, after, what):
+    """Stores the factors in the card's models.gdn entry, with where they came from."""
+    with open(args.card) as f:
+        card = json.load(f)
+    if 'gdn' not in card.get('models', {}):
+        raise SystemExit(f'{args.card}: no models.gdn entry to calibrate')
+    hist = {}
+    hp = os.path.join(args.run, 'gdn_history.json')
+    if os.path.isfile(hp):
+        with open(hp) as f:
+            hist = json.load(f)
+    card['models']['gdn']['sigma_calibration'] = {
+        'scale': [round(float(v), 4) for v in k],
+        'source': (f'quantile {GAUSS_1SIGMA:.4f} of |error|/sigma per component on the '
+                   f'images held out of run {os.path.basename(os.path.normpath(args.run))} '
+                   f'({what}; {args.weights} weights, epoch {ck.get("epoch")}; trained on the '
+                   'other ' + ' + '.join(f'{n_total[s] - len(r)} {s}' for s, r in held.items()) + ')'),
+        'held_out': {s: len(r) for s, r in held.items()},
+        'held_out_coverage_before': [round(float(v), 4) for v in before],
+        'held_out_coverage_after': [round(float(v), 4) for v in after],
+        'run_command': hist.get('args'),
+        'command': 'examples/gdn/calibrate_sigma.py ' + ' '.join(argv if argv is not None else sys.argv[1:]),
+    }
+    with open(args.card, 'w') as f:
+        json.dump(card, f, indent=1)
+    print('wrote models.gdn.sigma_calibration to', args.card)
+
+
+def main(argv=None) -> int:
+    import torch
+    from export_onnx import load_ckpt, run_held_out
+    from train import holdout_file
+
+    args = parse_args(argv)
+    torch.set_num_threads(args.threads)
+    # The held-out rows of every session the run trained on (train only, or train and val).
+    held = run_held_out(args.run)
+    if 'train' not in held:
+        raise SystemExit(f'{os.path.join(args.run, holdout_file("train"))}: not found '
+                         '(train the run with --holdout N)')
+    ck_path = os.path.join(args.run, f'gdn_{args.weights}.pt')
+    model, ck = load_ckpt(ck_path)
+    if ck['kind'] != 'gdn':
+        raise SystemExit(f'{ck_path}: a {ck["kind"]} checkpoint has no sigma')
+    baseline = None
+    if args.baseline_run:
+        bp = os.path.join(args.baseline_run, f'gdn_{args.weights}.pt')
+        if not os.path.isfile(bp):
+            raise SystemExit(f'--baseline-run: {bp} not found (a train.py run directory with GDN weights)')
+        baseline, _ = load_ckpt(bp)
+    errs, sigs, n_total, base_errs = held_out_errors(args, held, model, baseline)
+    k = sigma_scale(np.concatenate(list(errs.values())), np.concatenate(list(sigs.values())))
+    before, after, what = print_report(args, held, ck_path, ck, errs, sigs, base_errs, k)
     if args.write:
-        with open(args.card) as f:
-            card = json.load(f)
-        if 'gdn' not in card.get('models', {}):
-            raise SystemExit(f'{args.card}: no models.gdn entry to calibrate')
-        hist = {}
-        hp = os.path.join(args.run, 'gdn_history.json')
-        if os.path.isfile(hp):
-            with open(hp) as f:
-                hist = json.load(f)
-        card['models']['gdn']['sigma_calibration'] = {
-            'scale': [round(float(v), 4) for v in k],
-            'source': (f'quantile {GAUSS_1SIGMA:.4f} of |error|/sigma per component on the '
-                       f'images held out of run {os.path.basename(os.path.normpath(args.run))} '
-                       f'({what}; {args.weights} weights, epoch {ck.get("epoch")}; trained on the '
-                       'other ' + ' + '.join(f'{n_total[s] - len(r)} {s}' for s, r in held.items()) + ')'),
-            'held_out': {s: len(r) for s, r in held.items()},
-            'held_out_coverage_before': [round(float(v), 4) for v in before],
-            'held_out_coverage_after': [round(float(v), 4) for v in after],
-            'run_command': hist.get('args'),
-            'command': 'examples/gdn/calibrate_sigma.py ' + ' '.join(argv if argv is not None else sys.argv[1:]),
-        }
-        with open(args.card, 'w') as f:
-            json.dump(card, f, indent=1)
-        print('wrote models.gdn.sigma_calibration to', args.card)
+        write_calibration(args, argv, ck, held, n_total, k, before, after, what)
     return 0
 
 

@@ -202,11 +202,7 @@ def _row(label, v, fmt='{:7.3f}'):
     return f'{label:<40}' + ' '.join(fmt.format(x) for x in v)
 
 
-def main(argv=None) -> int:
-    import cv2
-    from dataset import default_data_dir, load_split
-    import labels as L
-
+def parse_args(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument('--data', default=None)
     ap.add_argument('--models', default=os.path.join(HERE, 'models'))
@@ -221,55 +217,53 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     if args.dump and args.dump_sigma == 'power' and not args.holdout_run:
         ap.error('--dump-sigma power needs --holdout-run')
+    return args
 
-    data = args.data or default_data_dir()
-    if args.slip:
-        va = load_split(data, 'val', verbose=False)
-        net = cv2.dnn.readNetFromONNX(os.path.join(args.models, 'gdn.onnx'))
-        out = []
-        for i in range(0, len(va.images), 100):
-            net.setInput(va.images[i:i + 100])
-            out.append(net.forward())
-        mu = L.from_train_units(np.concatenate(out)[:, :6].astype(np.float64))   # mm, rad
-        print_slip(L.se3_inv(L.se3_exp(mu))[:, :2, 3], va.euler6)
-        return 0
-    tr = load_split(data, 'train', verbose=False)
-    va = load_split(data, 'val', verbose=False)
-    if args.geometry:
-        print_session_geometry(tr, va)
-        return 0
-    with open(os.path.join(args.models, 'model_card.json')) as f:
-        card = json.load(f)
-    scale = np.asarray(card['models']['gdn'].get('sigma_calibration', {}).get('scale', [1.0] * 6))
 
-    def onnx_outputs(name, split, idx):
-        net = cv2.dnn.readNetFromONNX(os.path.join(args.models, name))
-        x = split.images[idx]
-        outs = []
-        for i in range(0, len(x), 100):
-            net.setInput(x[i:i + 100])
-            outs.append(net.forward())
-        return np.concatenate(outs).astype(np.float64)
+def onnx_outputs(path, x):
+    """The network of the ONNX file `path` (through cv2.dnn) on images x, in batches of 100."""
+    import cv2
+    net = cv2.dnn.readNetFromONNX(path)
+    outs = []
+    for i in range(0, len(x), 100):
+        net.setInput(x[i:i + 100])
+        outs.append(net.forward())
+    return np.concatenate(outs).astype(np.float64)
 
-    def torch_outputs(model, x):
-        from export_onnx import torch_forward
-        return np.concatenate([torch_forward(model, x[i:i + 100]) for i in range(0, len(x), 100)]).astype(np.float64)
 
-    def labels_of(split, idx):
-        return L.to_train_units(L.xi_from_euler6(split.euler6))[idx]   # mm, deg
+def torch_outputs(model, x):
+    from export_onnx import torch_forward
+    return np.concatenate([torch_forward(model, x[i:i + 100]) for i in range(0, len(x), 100)]).astype(np.float64)
 
-    nb = len(DEPTH_EDGES) - 1
-    ranges = [f'{DEPTH_EDGES[i]:g}-{DEPTH_EDGES[i + 1]:g}' for i in range(nb)]
-    bins = [f'z {r} mm' for r in ranges]
 
-    def print_mae_by_depth(label, err, z):
-        counts, mae = mae_by_bin(err, z)
-        print(_row(f'{label} all (n {len(z)})', np.abs(err).mean(0)))
-        for i in range(nb):
-            print(_row(f'  {bins[i]} (n {counts[i]})', mae[i]))
+def labels_of(split, idx):
+    import labels as L
+    return L.to_train_units(L.xi_from_euler6(split.euler6))[idx]   # mm, deg
 
+
+NB = len(DEPTH_EDGES) - 1
+RANGES = [f'{DEPTH_EDGES[i]:g}-{DEPTH_EDGES[i + 1]:g}' for i in range(NB)]
+BINS = [f'z {r} mm' for r in RANGES]
+
+
+def print_by_bin(label, all_values, per_bin):
+    print(_row(label, all_values))
+    for i in range(NB):
+        print(_row(f'  {BINS[i]}', per_bin[i]))
+
+
+def print_mae_by_depth(label, err, z):
+    counts, mae = mae_by_bin(err, z)
+    print(_row(f'{label} all (n {len(z)})', np.abs(err).mean(0)))
+    for i in range(NB):
+        print(_row(f'  {BINS[i]} (n {counts[i]})', mae[i]))
+
+
+def section_mae(args, tr, va):
+    """Sections 0 and 1: the label distributions, and each network's MAE by depth on train and
+    val. Returns the GDN's (err, sigma, z) on val, or None without a GDN."""
     print('0. Label distributions: fraction per depth bin; mean |shear| (mm), |twist|, |tilt| (deg)')
-    print(_row('', ranges + ['shear', 'twist', 'tilt'], '{:>7}'))
+    print(_row('', RANGES + ['shear', 'twist', 'tilt'], '{:>7}'))
     for label, split in (('train', tr), ('val', va)):
         print(_row(f'{label} (n {len(split)})', label_summary(split.euler6)))
     print('\n' + _row('', COMP, '{:>7}'))
@@ -282,65 +276,99 @@ def main(argv=None) -> int:
             print(f'{model}.onnx: not found, skipped')
             continue
         for label, split, idx in splits:
-            out = onnx_outputs(f'{model}.onnx', split, idx)
+            out = onnx_outputs(os.path.join(args.models, f'{model}.onnx'), split.images[idx])
             err = out[:, :6] - labels_of(split, idx)
             z = split.euler6[idx, 2]
             print_mae_by_depth(f'{model} {label}', err, z)
             if model == 'gdn' and split is va:
                 gdn_val = (err, 1.0 / out[:, 6:], z)
+    return gdn_val
+
+
+def section_coverage(err, sig, z, scale):
+    """Section 2: how often |error| <= sigma, by depth, for the network's and the card's sigma."""
+    print('\n2. Coverage of the GDN sigma on val (0.683 for a calibrated Gaussian)')
+    for label, s in (('network sigma', sig), ('card factors ' + ' '.join(f'{v:.2f}' for v in scale), sig * scale)):
+        print_by_bin(f'{label}: all', np.mean(np.abs(err) <= s, axis=0), coverage_by_bin(err, s, z))
+    bz = bin_index(z)
+    print_by_bin('q68 |error|/network sigma: all', np.quantile(np.abs(err) / sig, GAUSS_1SIGMA, axis=0),
+                 [np.quantile(np.abs(err[bz == i]) / sig[bz == i], GAUSS_1SIGMA, axis=0) for i in range(NB)])
+
+
+def fit_holdout(args, tr):
+    """With --holdout-run: the power-law calibration sigma' = a sigma^b fitted on the run's held-out
+    training rows. Returns (a, b, the rows, the run's model, its outputs on them)."""
+    import torch
+    from export_onnx import load_ckpt
+    torch.set_num_threads(2)
+    held = np.loadtxt(os.path.join(args.holdout_run, 'holdout.txt'), dtype=np.int64, ndmin=1)
+    model, _ = load_ckpt(os.path.join(args.holdout_run, 'gdn_last.pt'))
+    out = torch_outputs(model, tr.images[held])
+    a, bexp = fit_power_calibration(out[:, :6] - labels_of(tr, held), 1.0 / out[:, 6:])
+    return a, bexp, held, model, out
+
+
+def print_holdout(args, tr, va, err, sig, z, fit):
+    """Sections 4 and 5: the power-law calibration's coverage on val, and the session gap by depth."""
+    a, bexp, held, model, out = fit
+    print(f'\n4. Power-law calibration sigma\' = a sigma^b, fitted on the {len(held)} rows held out of '
+          f'{args.holdout_run}')
+    print(_row('a', a, '{:7.3f}'))
+    print(_row('b', bexp, '{:7.2f}'))
+    s = a * sig ** bexp
+    print_by_bin('coverage on val: all', np.mean(np.abs(err) <= s, axis=0), coverage_by_bin(err, s, z))
+    print(f'\n5. Session gap by depth: MAE of {args.holdout_run} (last epoch) on its held-out training '
+          f'rows (same session as its training images) and on val')
+    out_v = torch_outputs(model, va.images)
+    for label, split, idx, o in (('held out', tr, held, out), ('val', va, np.arange(len(va)), out_v)):
+        print_mae_by_depth(label, o[:, :6] - labels_of(split, idx), split.euler6[idx, 2])
+
+
+def slip_only(args, data) -> int:
+    """Section 7 alone (--slip): the read shear against the labelled one, by depth."""
+    from dataset import load_split
+    import labels as L
+    va = load_split(data, 'val', verbose=False)
+    out = onnx_outputs(os.path.join(args.models, 'gdn.onnx'), va.images)
+    mu = L.from_train_units(out[:, :6])   # mm, rad
+    print_slip(L.se3_inv(L.se3_exp(mu))[:, :2, 3], va.euler6)
+    return 0
+
+
+def main(argv=None) -> int:
+    from dataset import default_data_dir, load_split
+
+    args = parse_args(argv)
+    data = args.data or default_data_dir()
+    if args.slip:
+        return slip_only(args, data)
+    tr = load_split(data, 'train', verbose=False)
+    va = load_split(data, 'val', verbose=False)
+    if args.geometry:
+        print_session_geometry(tr, va)
+        return 0
+    with open(os.path.join(args.models, 'model_card.json')) as f:
+        card = json.load(f)
+    scale = np.asarray(card['models']['gdn'].get('sigma_calibration', {}).get('scale', [1.0] * 6))
+    gdn_val = section_mae(args, tr, va)
     if gdn_val is None:
         if args.dump:
             raise SystemExit('--dump: no GDN model')
         return 0
-
     err, sig, z = gdn_val
-    print('\n2. Coverage of the GDN sigma on val (0.683 for a calibrated Gaussian)')
-    for label, s in (('network sigma', sig), ('card factors ' + ' '.join(f'{v:.2f}' for v in scale), sig * scale)):
-        cov = coverage_by_bin(err, s, z)
-        print(_row(f'{label}: all', np.mean(np.abs(err) <= s, axis=0)))
-        for i in range(nb):
-            print(_row(f'  {bins[i]}', cov[i]))
-
-    print(_row('q68 |error|/network sigma: all', np.quantile(np.abs(err) / sig, GAUSS_1SIGMA, axis=0)))
-    bz = bin_index(z)
-    for i in range(nb):
-        print(_row(f'  {bins[i]}', np.quantile(np.abs(err[bz == i]) / sig[bz == i], GAUSS_1SIGMA, axis=0)))
+    section_coverage(err, sig, z, scale)
 
     print(f'\n3. Scalar filter model on val, sigma_psi = {args.sigma_psi:g}: MAE ratio to unfiltered')
     b = bin_index(z)
     cal = [('network sigma', sig), ('card factors', sig * scale)]
-
-    if args.holdout_run:
-        import torch
-        from export_onnx import load_ckpt
-        torch.set_num_threads(2)
-        held = np.loadtxt(os.path.join(args.holdout_run, 'holdout.txt'), dtype=np.int64, ndmin=1)
-        model, _ = load_ckpt(os.path.join(args.holdout_run, 'gdn_last.pt'))
-        out = torch_outputs(model, tr.images[held])
-        a, bexp = fit_power_calibration(out[:, :6] - labels_of(tr, held), 1.0 / out[:, 6:])
-        cal.append(('power law', a * sig ** bexp))
+    fit = fit_holdout(args, tr) if args.holdout_run else None
+    if fit is not None:
+        cal.append(('power law', fit[0] * sig ** fit[1]))
     for label, s in cal:
-        print(_row(f'{label}: all', scalar_filter_ratio(err, s, args.sigma_psi)))
-        for i in range(nb):
-            print(_row(f'  {bins[i]}', scalar_filter_ratio(err[b == i], s[b == i], args.sigma_psi)))
-
-    if args.holdout_run:
-        print(f'\n4. Power-law calibration sigma\' = a sigma^b, fitted on the {len(held)} rows held out of '
-              f'{args.holdout_run}')
-        print(_row('a', a, '{:7.3f}'))
-        print(_row('b', bexp, '{:7.2f}'))
-        s = a * sig ** bexp
-        cov = coverage_by_bin(err, s, z)
-        print(_row('coverage on val: all', np.mean(np.abs(err) <= s, axis=0)))
-        for i in range(nb):
-            print(_row(f'  {bins[i]}', cov[i]))
-
-    if args.holdout_run:
-        print(f'\n5. Session gap by depth: MAE of {args.holdout_run} (last epoch) on its held-out training '
-              f'rows (same session as its training images) and on val')
-        out_v = torch_outputs(model, va.images)
-        for label, split, idx, o in (('held out', tr, held, out), ('val', va, np.arange(len(va)), out_v)):
-            print_mae_by_depth(label, o[:, :6] - labels_of(split, idx), split.euler6[idx, 2])
+        print_by_bin(f'{label}: all', scalar_filter_ratio(err, s, args.sigma_psi),
+                     [scalar_filter_ratio(err[b == i], s[b == i], args.sigma_psi) for i in range(NB)])
+    if fit is not None:
+        print_holdout(args, tr, va, err, sig, z, fit)
 
     if args.dump:
         s = dict(cal)[{'network': 'network sigma', 'card': 'card factors', 'power': 'power law'}[args.dump_sigma]]

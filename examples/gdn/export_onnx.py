@@ -44,23 +44,11 @@ import torch
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 
-from model import (CNN_ALPHA_DEG, CNN_ALPHA_RAD, P_MU, P_SIGMA_INV, TORCH_BN,  # noqa: E402
-                   BatchNormOptions, build)
+from model import CNN_ALPHA_DEG, TORCH_BN, BatchNormOptions, build  # noqa: E402
+from model_card import COMP, PAPER_TABLE1, card_common, model_entry  # noqa: E402
 
 FORBIDDEN_OPS = {'Where', 'Clip', 'Min', 'Max', 'Softplus', 'Reshape'}
 MODELS_DIR = os.path.join(HERE, 'models')
-COMP = ['rho1_mm', 'rho2_mm', 'rho3_mm', 'phi1_deg', 'phi2_deg', 'phi3_deg']
-PAPER_TABLE1 = {
-    'note': 'Paper Table 1: mean +- std over 10 models, on the held-out TEST set (ours: '
-            'validation set). Units printed as mm/s, deg/s in the paper; they are mm and deg. '
-            'Paper losses use rotations in RADIANS; GDN NLL apparently includes c = 3 ln(2 pi).',
-    'CNN': {'loss_mse': [1.43, 0.02], 'mae': {'rho1_mm': [0.448, 0.005], 'rho2_mm': [0.451, 0.004],
-            'rho3_mm': [0.164, 0.002], 'phi1_deg': [0.88, 0.03], 'phi2_deg': [1.04, 0.02],
-            'phi3_deg': [1.44, 0.02]}},
-    'GDN': {'loss_nll': [-7.20, 0.25], 'mae': {'rho1_mm': [0.426, 0.005], 'rho2_mm': [0.422, 0.005],
-            'rho3_mm': [0.123, 0.002], 'phi1_deg': [0.45, 0.01], 'phi2_deg': [0.64, 0.01],
-            'phi3_deg': [1.16, 0.02]}},
-}
 
 
 def export_model(model: torch.nn.Module, path: str, size: int = 128) -> list:
@@ -174,33 +162,10 @@ def evaluation_rows(sessions, held: dict, n_rows: dict):
     return 'held_out', {s: np.asarray(held[s]) for s in sessions}, trained_on
 
 
-def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument('--gdn-run', default='runs/gdn')
-    ap.add_argument('--cnn-run', default='runs/cnn')
-    ap.add_argument('--data', default=None)
-    ap.add_argument('--weights', choices=['best', 'last'], default='best',
-                    help='checkpoint to export: lowest validation loss or final epoch')
-    ap.add_argument('--n-verify', type=int, default=64)
-    ap.add_argument('--out-dir', default=MODELS_DIR)
-    args = ap.parse_args(argv)
-    torch.set_num_threads(1)
-
-    from dataset import load_split
-    import labels as L
-    splits = {s: load_split(args.data, s, verbose=False) for s in ('train', 'val')}
-    labels = {s: L.to_train_units(L.xi_from_euler6(sp.euler6)) for s, sp in splits.items()}
-    X = splits['val'].images   # the cv2.dnn check and the reference outputs: first val images
-
-    card_path = os.path.join(args.out_dir, 'model_card.json')
-    card = {}
-    if os.path.isfile(card_path):
-        with open(card_path) as f:
-            card = json.load(f)
-    card.setdefault('models', {})
-    # What each run trained on, checked before anything is written: one card describes one
-    # training set, so two runs trained on different images (or a run and a model the card
-    # keeps) are refused with the folder untouched.
+def plan_exports(args, splits, card, card_path):
+    """What each run trained on, checked before anything is written: one card describes one
+    training set, so two runs trained on different images (or a run and a model the card keeps)
+    are refused with the folder untouched. Returns (jobs, trained_on, held)."""
     jobs, data_seen = [], None   # data_seen: (trained_on, held-out rows)
     for kind, run in (('gdn', args.gdn_run), ('cnn', args.cnn_run)):
         ck_path = os.path.join(run, f'{kind}_{args.weights}.pt')
@@ -228,116 +193,101 @@ def main(argv=None):
     if kept and before is not None and before != trained_on:
         raise SystemExit(f'{card_path} also describes {", ".join(kept)}, trained on {before}, not '
                          f'{trained_on}: one card describes one training set (use another --out-dir)')
+    return jobs, trained_on, held
 
+
+def measure(model, kind, eval_key, eval_rows, splits, labels):
+    """The exported weights' errors (torch, eval mode) on images the model never saw: the card's
+    `eval_key` entry (n, mae, by_split for held-out rows, and the loss)."""
+    outs, ys, by_split = [], [], {}
+    for split, rows in eval_rows.items():
+        xs = splits[split].images[rows]
+        o = np.concatenate([torch_forward(model, xs[i:i + 50]) for i in range(0, len(xs), 50)])
+        outs.append(o)
+        ys.append(labels[split][rows])
+        by_split[split] = {'n': int(len(rows)),
+                           'mae': dict(zip(COMP, map(float, np.abs(o[:, :6] - ys[-1]).mean(0))))}
+    out, Y = np.concatenate(outs), np.concatenate(ys)
+    mae = np.abs(out[:, :6] - Y).mean(0)
+    pre = 'val_' if eval_key == 'validation' else ''
+    if kind == 'gdn':
+        s = out[:, 6:].astype(np.float64)
+        nll_deg = float(np.mean(np.sum(0.5 * (s * (Y - out[:, :6])) ** 2 - np.log(s), 1)))
+        nll_rad = nll_deg - 3 * math.log(180 / math.pi)
+        loss = {pre + 'nll_mm_deg': nll_deg, pre + 'nll_mm_rad': nll_rad,
+                pre + 'nll_mm_rad_plus_c': nll_rad + 3 * math.log(2 * math.pi),
+                'calibration_frac_within_1sigma': dict(zip(COMP, map(float, np.mean(
+                    np.abs(Y - out[:, :6]) * s <= 1.0, 0)))),
+                'median_sigma': dict(zip(COMP, map(float, np.median(1.0 / s, 0)))),
+                'note': 'mean NLL without c in training units (mm, deg); converted to '
+                        'mm/rad (paper units): -3 ln(180/pi); "+c" adds 6/2 ln(2 pi) '
+                        '(the paper\'s -7.20 appears to include it)'}
+    else:
+        mse = float(np.mean(np.sum(np.asarray(CNN_ALPHA_DEG) * (Y - out) ** 2, 1)))
+        loss = {pre + 'weighted_mse': mse,
+                'note': 'alpha = (1,1,1,100,100,100) with rotations in radians == '
+                        'alpha*(pi/180)^2 on degrees; same value as the paper\'s loss'}
+    return {'n': int(len(Y)), 'mae': dict(zip(COMP, map(float, mae))),
+            **({'by_split': by_split} if eval_key == 'held_out' else {}), **loss}
+
+
+def read_json(path) -> dict:
+    """A run's JSON record, or {} when the run did not write it."""
+    if not os.path.isfile(path):
+        return {}
+    with open(path) as f:
+        return json.load(f)
+
+
+def export_one(args, job, X, splits, labels):
+    """Exports one run's checkpoint, checks cv2.dnn against PyTorch and measures it: its card entry."""
+    kind, run, ck_path, sessions, eval_key, eval_rows = job
+    model, ck = load_ckpt(ck_path)
+    onnx_path = os.path.join(args.out_dir, f'{kind}.onnx')
+    ops = export_model(model, onnx_path)
+    xv = X[:args.n_verify]
+    pt = torch_forward(model, xv)
+    cv = cv2_forward(onnx_path, xv)
+    diff = float(np.abs(pt - cv).max())
+    rel = float((np.abs(pt - cv) / np.maximum(1.0, np.abs(pt))).max())
+    print(f'{kind}: cv2.dnn vs torch max|diff| = {diff:.3g} (rel {rel:.3g}) on {len(xv)} val images')
+    check = {'opencv': __import__('cv2').__version__, 'n_images': int(len(xv)),
+             'max_abs_diff': diff, 'max_rel_diff': rel, 'pass_1e-4': bool(rel < 1e-4)}
+    measured = measure(model, kind, eval_key, eval_rows, splits, labels)
+    if kind == 'gdn':
+        write_reference(os.path.join(args.out_dir, 'gdn_reference_outputs.csv'), splits['val'].names[:8], pt[:8])
+    summ = read_json(os.path.join(run, f'{kind}_summary.json'))
+    hist = read_json(os.path.join(run, f'{kind}_history.json'))
+    with open(onnx_path, 'rb') as f:
+        digest = hashlib.sha256(f.read()).hexdigest()  # the C++ loader checks it
+    return model_entry(kind, ck, summ, hist, args.weights, sessions, digest, ops, eval_key, measured, check)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument('--gdn-run', default='runs/gdn')
+    ap.add_argument('--cnn-run', default='runs/cnn')
+    ap.add_argument('--data', default=None)
+    ap.add_argument('--weights', choices=['best', 'last'], default='best',
+                    help='checkpoint to export: lowest validation loss or final epoch')
+    ap.add_argument('--n-verify', type=int, default=64)
+    ap.add_argument('--out-dir', default=MODELS_DIR)
+    args = ap.parse_args(argv)
+    torch.set_num_threads(1)
+
+    from dataset import load_split
+    import labels as L
+    splits = {s: load_split(args.data, s, verbose=False) for s in ('train', 'val')}
+    labels = {s: L.to_train_units(L.xi_from_euler6(sp.euler6)) for s, sp in splits.items()}
+    X = splits['val'].images   # the cv2.dnn check and the reference outputs: first val images
+
+    card_path = os.path.join(args.out_dir, 'model_card.json')
+    card = read_json(card_path)
+    card.setdefault('models', {})
+    jobs, trained_on, held = plan_exports(args, splits, card, card_path)
     os.makedirs(args.out_dir, exist_ok=True)
-    for kind, run, ck_path, sessions, eval_key, eval_rows in jobs:
-        model, ck = load_ckpt(ck_path)
-        onnx_path = os.path.join(args.out_dir, f'{kind}.onnx')
-        ops = export_model(model, onnx_path)
-        xv = X[:args.n_verify]
-        pt = torch_forward(model, xv)
-        cv = cv2_forward(onnx_path, xv)
-        diff = float(np.abs(pt - cv).max())
-        rel = float((np.abs(pt - cv) / np.maximum(1.0, np.abs(pt))).max())
-        print(f'{kind}: cv2.dnn vs torch max|diff| = {diff:.3g} (rel {rel:.3g}) on {len(xv)} val images')
-        ok = rel < 1e-4
-        # metrics with the exported weights (torch, eval mode) on images the model never saw
-        outs, ys, by_split = [], [], {}
-        for split, rows in eval_rows.items():
-            xs = splits[split].images[rows]
-            o = np.concatenate([torch_forward(model, xs[i:i + 50]) for i in range(0, len(xs), 50)])
-            outs.append(o)
-            ys.append(labels[split][rows])
-            by_split[split] = {'n': int(len(rows)),
-                               'mae': dict(zip(COMP, map(float, np.abs(o[:, :6] - ys[-1]).mean(0))))}
-        out, Y = np.concatenate(outs), np.concatenate(ys)
-        mae = np.abs(out[:, :6] - Y).mean(0)
-        pre = 'val_' if eval_key == 'validation' else ''
-        if kind == 'gdn':
-            s = out[:, 6:].astype(np.float64)
-            nll_deg = float(np.mean(np.sum(0.5 * (s * (Y - out[:, :6])) ** 2 - np.log(s), 1)))
-            nll_rad = nll_deg - 3 * math.log(180 / math.pi)
-            loss = {pre + 'nll_mm_deg': nll_deg, pre + 'nll_mm_rad': nll_rad,
-                    pre + 'nll_mm_rad_plus_c': nll_rad + 3 * math.log(2 * math.pi),
-                    'calibration_frac_within_1sigma': dict(zip(COMP, map(float, np.mean(
-                        np.abs(Y - out[:, :6]) * s <= 1.0, 0)))),
-                    'median_sigma': dict(zip(COMP, map(float, np.median(1.0 / s, 0)))),
-                    'note': 'mean NLL without c in training units (mm, deg); converted to '
-                            'mm/rad (paper units): -3 ln(180/pi); "+c" adds 6/2 ln(2 pi) '
-                            '(the paper\'s -7.20 appears to include it)'}
-            write_reference(os.path.join(args.out_dir, 'gdn_reference_outputs.csv'),
-                            splits['val'].names[:8], pt[:8])
-        else:
-            mse = float(np.mean(np.sum(np.asarray(CNN_ALPHA_DEG) * (Y - out) ** 2, 1)))
-            loss = {pre + 'weighted_mse': mse,
-                    'note': 'alpha = (1,1,1,100,100,100) with rotations in radians == '
-                            'alpha*(pi/180)^2 on degrees; same value as the paper\'s loss'}
-        summ = {}
-        sp = os.path.join(run, f'{kind}_summary.json')
-        if os.path.isfile(sp):
-            with open(sp) as f:
-                summ = json.load(f)
-        hist = {}
-        hp = os.path.join(run, f'{kind}_history.json')
-        if os.path.isfile(hp):
-            with open(hp) as f:
-                hist = json.load(f)
-        with open(os.path.join(args.out_dir, f'{kind}.onnx'), 'rb') as f:
-            digest = hashlib.sha256(f.read()).hexdigest()  # the C++ loader checks it
-        card['models'][kind] = {
-            'file': f'{kind}.onnx',
-            'sha256': digest,
-            'onnx_ops': ops, 'opset': 13,
-            'input': {'name': 'input', 'shape': ['N', 1, 128, 128], 'dtype': 'float32'},
-            'output': ({'name': 'output', 'shape': ['N', 12],
-                        'layout': 'mu_1..6 then sigma_inv_1..6 for xi = (rho1, rho2, rho3, phi1, phi2, phi3)',
-                        'units': 'mu: mm, mm, mm, deg, deg, deg; sigma_inv: 1/mm x3, 1/deg x3 '
-                                 '(to radians: mu_phi * pi/180, sigma_inv_phi * 180/pi)',
-                        'sigma_inv_range': [1e-6, 1e6]} if kind == 'gdn' else
-                       {'name': 'output', 'shape': ['N', 6],
-                        'layout': 'xi = (rho1, rho2, rho3, phi1, phi2, phi3)',
-                        'units': 'mm, mm, mm, deg, deg, deg'}),
-            'architecture': (
-                'conv base: blocks [Conv3x3 pad1 -> BatchNorm -> ReLU -> MaxPool2x2], channels '
-                f'{list(ck["channels"])}, flatten; ' +
-                ('GDN head: 12 x (Dropout -> Linear(F,1)), p_mu=%s, p_sigma_inv=%s, '
-                 'sigma_inv = softbound(.) into [1e-6, 1e6]' % (list(P_MU), list(P_SIGMA_INV))
-                 if kind == 'gdn' else 'regression head: Dropout(0.1) -> Linear(F,6)')),
-            'training': {
-                'loss': ('mean NLL (eq. 5, eqn:gdn_mean_nll_loss_def, c omitted), labels mm/deg'
-                         + ('; beta-NLL: each term weighted by sigma^(2 beta), beta = {:g}, the weight held '
-                            'constant in the gradient'.format(summ['beta_nll']) if summ.get('beta_nll') else '')
-                         if kind == 'gdn' else
-                         'weighted MSE, alpha=%s on mm/rad == %s on mm/deg' %
-                         (list(CNN_ALPHA_RAD), [round(a, 6) for a in CNN_ALPHA_DEG])),
-                'optimizer': ('AdamW (decoupled weight decay {:g}), batch 16'.format(summ['weight_decay'])
-                              if summ.get('weight_decay') else 'Adam, batch 16'),
-                'augmentation': summ.get('augment', 'none'),
-                'sessions': sessions,
-                'schedule': 'LRPD: 1e-5 -> {0:g} linear over 3 epochs (per step), hold 1 epoch, '
-                            'then ({0:g}-1e-7) sqrt(1 - (e-4)/(e_max-4)) + 1e-7'.format(
-                                hist.get('args', {}).get('lr_max', 1e-3)),
-                'early_stopping': 'patience {} on the loss of {}'.format(
-                    hist.get('args', {}).get('patience', 25), summ.get('monitor', 'val')),
-                'exported_weights': ('lowest-validation-loss epoch' if args.weights == 'best' else
-                                     'final epoch of the LRPD schedule (Keras EarlyStopping '
-                                     'default: restore_best_weights=False)'),
-                'batchnorm': ck.get('bn', TORCH_BN._asdict()),
-                'best_val_loss_epoch': summ.get('best_epoch'),
-                'epochs_run': summ.get('epochs_run'), 'e_max_final': summ.get('e_max'),
-                'weights_epoch': ck.get('epoch'), 'seconds_per_epoch': summ.get('seconds_per_epoch'),
-                'total_seconds': summ.get('total_seconds'), 'threads': summ.get('threads'),
-                'seed': summ.get('seed'), 'params': summ.get('params'),
-                'command': hist.get('args'),
-                'hardware': f'{summ.get("threads", "?")} CPU thread(s) (x86-64, shared 2-core VM), '
-                            'PyTorch 1.13 CPU',
-            },
-            eval_key: {'n': int(len(Y)), 'mae': dict(zip(COMP, map(float, mae))),
-                       **({'by_split': by_split} if eval_key == 'held_out' else {}), **loss},
-            'paper_table1': PAPER_TABLE1['GDN' if kind == 'gdn' else 'CNN'],
-            'cv2_dnn_check': {'opencv': __import__('cv2').__version__, 'n_images': int(len(xv)),
-                              'max_abs_diff': diff, 'max_rel_diff': rel, 'pass_1e-4': bool(ok)},
-        }
+    for job in jobs:
+        card['models'][job[0]] = export_one(args, job, X, splits, labels)
     card.update(card_common(trained_on))
     card['data']['trained_on'] = trained_on
     card['data'].pop('held_out', None)
@@ -355,87 +305,6 @@ def main(argv=None):
     with open(card_path, 'w') as f:
         json.dump(card, f, indent=1)
     print('wrote', card_path)
-
-
-DEVIATIONS_TRAIN_ONLY = [
-    'ONE model of each kind (seed 0), not 10; metrics on the VALIDATION set (the '
-    'paper reports the test set, which is held out here). GDN: the weights of the final '
-    'epoch of the schedule (not selected on val); CNN: the lowest-val-loss epoch (model '
-    'selection on val, so its numbers are slightly optimistic).',
-    'Compute budget (CPU only). GDN (22 Nov): 1 CPU thread, 105-155 s/epoch beside a '
-    'second training run on the 2-core VM; the --deadline logic shortened the LRPD '
-    'schedule to e_max=39 (39 epochs run) instead of 50. CNN (21 Nov): 1 thread on the '
-    'loaded VM, 110-830 s/epoch, e_max=15 (16 epochs run).',
-    'GDN BatchNorm with the paper\'s TensorFlow/Keras defaults (eps 1e-3, moving-average '
-    'momentum 0.99 = PyTorch momentum 0.01) and peak lr 1e-3 as in the paper; the CNN uses '
-    'PyTorch defaults (eps 1e-5, momentum 0.1). An earlier GDN run at 1e-3 with '
-    'PyTorch BatchNorm blew up in its hold epoch.',
-    'Rotations in degrees in the losses/outputs (paper: radians); the CNN loss weights '
-    'are converted so that its loss is identical; for the GDN only the NLL constant '
-    'changes (-3 ln(180/pi)).',
-    'Width 16-32-64-128-256 (5 blocks, 4x4x256 features) chosen by us; the paper text '
-    'does not give the number of blocks/channels.',
-]
-
-# A model trained on both sessions is the one to deploy, not a reproduction of the paper's tables.
-DEVIATIONS_BOTH_SESSIONS = [
-    'Trained on both recording sessions of the shared data (train and val) except the rows listed '
-    'in held_out.csv: the model to deploy. Its numbers are measured on those held-out rows of '
-    'sessions it has seen, so they are neither the paper\'s test-set numbers nor a measure of a '
-    'new session; the paper\'s Tables 1 and 2 are reproduced with the model trained on train only '
-    '(examples/gdn/models/model_card.json).',
-    'ONE model (seed 0), not 10, with a schedule fixed in advance (LRPD over the full e_max '
-    'epochs) and the weights of its final epoch: nothing was selected on the held-out rows.',
-    'The recipe of examples/gdn/README.md ("A recipe for an unseen session"): see training.optimizer, '
-    'training.augmentation and training.command.',
-    'GDN BatchNorm with the paper\'s TensorFlow/Keras defaults (eps 1e-3, moving-average momentum '
-    '0.99 = PyTorch momentum 0.01); rotations in degrees in the loss and outputs (paper: radians; '
-    'only the NLL constant changes, -3 ln(180/pi)); width 16-32-64-128-256 (5 blocks) chosen by us.',
-]
-
-
-def card_common(trained_on: dict):
-    """The card's fields that do not depend on the exported weights; trained_on = {split: n}."""
-    both = 'val' in trained_on
-    return {
-        'name': ('lieservo TacTip pose-and-shear GDN, trained on both recording sessions (train + val)'
-                 if both else 'lieservo TacTip pose-and-shear models (GDN and CNN-regression)'),
-        'paper': 'Lloyd & Lepora, "Pose-and-shear-based tactile servoing", IJRR',
-        'data': {
-            'source': 'github.com/dexterousrobot/tactile_data_shear, data/franka_tactip_1/'
-                      'surface_3d (Franka Emika Panda + TacTip, 3D-printed flat surface)',
-            'train': 6000, 'val': 2000,
-            'test': 'not used (held out by the project)',
-        },
-        'preprocessing': {
-            'input_images': 'processed_images/*.png: 8-bit binarised, 445 x 440 (W x H) '
-                            '(camera 640x480, bbox [105,20,550,460], adaptive threshold [61,5], '
-                            'circular mask r=230)',
-            'steps': ['read 8-bit grayscale', 'cv2.resize to 128 x 128, INTER_AREA, on uint8 '
-                      '(result rounded to uint8)', 'float32 = uint8 / 255 (range [0, 1])'],
-            'input_tensor': 'NCHW [N, 1, 128, 128], grayscale, float32 in [0,1]',
-        },
-        'deviations_from_paper': DEVIATIONS_BOTH_SESSIONS if both else DEVIATIONS_TRAIN_ONLY,
-        'labels': {
-            'euler': '(x, y, z, alpha, beta, gamma) = (shear_x, shear_y, pose_z, pose_Rx, '
-                     'pose_Ry, shear_Rz), mm and deg, extrinsic xyz: R = Rz(gamma) Ry(beta) '
-                     'Rx(alpha), t = (x, y, z) -> X_fs (= X_par X_perp)',
-            'xi': 'xi = log(X_fs^-1)^vee = [rho; phi] (translation first), phi = axis-angle of '
-                  'R_sf, rho = J_l(phi)^-1 t_sf (SO(3) left Jacobian), i.e. X_sf = exp(xi^) '
-                  'with the standard SE(3) exp (left-perturbation convention of the library)',
-            'training_units': 'rho in mm, phi in DEGREES (xi[3:] * 180/pi). Degrees chosen so '
-                              'all six components have comparable scale (val std ~2.5, 2.5, '
-                              '1.6 mm; 12.4, 12.5, 3.1 deg; in radians the rotations would be '
-                              '~0.05-0.2, 10-50x smaller than the mm terms, which conditions the '
-                              'output layers/softbound poorly). For the GDN this changes the NLL '
-                              'only by the constant 3 ln(180/pi) = 12.16; for the CNN the paper '
-                              'weights (which assume radians) are converted so the loss is '
-                              'identical.',
-            'onnx_outputs_units': 'mm and DEGREES exactly as trained; consumers convert '
-                                  'phi [deg] * pi/180 -> rad and sigma_inv_phi [1/deg] * 180/pi '
-                                  '-> 1/rad',
-        },
-    }
 
 
 if __name__ == '__main__':

@@ -95,7 +95,7 @@ def parse_deadline(s):
     return d.timestamp()
 
 
-def main(argv=None):
+def parse_args(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument('--model', choices=['gdn', 'cnn'], default='gdn')
     ap.add_argument('--epochs', type=int, default=50, help='max epochs to run')
@@ -136,27 +136,21 @@ def main(argv=None):
     ap.add_argument('--max-batches', type=int, default=None, help='(timing) batches per epoch')
     ap.add_argument('--export', default=None, help='write ONNX here at the end')
     args = ap.parse_args(argv)
-
-    torch.set_num_threads(args.threads)
-    try:
-        torch.set_num_interop_threads(1)
-    except RuntimeError:
-        pass
-    torch.manual_seed(args.seed)
-    np.random.seed(args.seed)
-    channels = tuple(int(c) for c in args.channels.split(','))
-    e_max = args.e_max if args.e_max is not None else float(args.epochs)
-    deadline = parse_deadline(args.deadline)
-    os.makedirs(args.out, exist_ok=True)
-    data = args.data or default_data_dir()
-
-    sessions = [v for v in args.sessions.split(',') if v]
+    args.session_list = [v for v in args.sessions.split(',') if v]
+    sessions = args.session_list
     if not sessions or len(set(sessions)) != len(sessions) or any(v not in ('train', 'val') for v in sessions):
         raise SystemExit(f'--sessions {args.sessions}: a list of distinct splits from train, val')
     if not (0.0 <= args.beta_nll <= 1.0) or (args.beta_nll and args.model != 'gdn'):
         raise SystemExit(f'--beta-nll {args.beta_nll}: a GDN option between 0 and 1')
     if 'val' in sessions and not args.holdout:
         raise SystemExit('--sessions with val needs --holdout N: the held-out rows are the monitored set')
+    return args
+
+
+def training_sets(args, data):
+    """(Xtr, Ytr, Xva, Yva, monitor): the trained-on sessions less their held-out rows, and the
+    monitored set (val, or the held-out rows of every session when val is trained on)."""
+    sessions = args.session_list
 
     def xy(split):
         s = load_split(data, split)
@@ -179,27 +173,98 @@ def main(argv=None):
     if 'val' in sessions:   # monitor the held-out rows of every session
         Xva = torch.cat([p[0] for p in held_parts])
         Yva = torch.cat([p[1] for p in held_parts])
-        monitor = 'held-out rows of ' + '+'.join(sessions)
-    else:
-        Xva, Yva = xy('val')
-        monitor = 'val'
-    alpha = torch.tensor(CNN_ALPHA_DEG, dtype=torch.float32)
+        return Xtr, Ytr, Xva, Yva, 'held-out rows of ' + '+'.join(sessions)
+    Xva, Yva = xy('val')
+    return Xtr, Ytr, Xva, Yva, 'val'
 
-    bn = KERAS_BN if args.bn == 'keras' else TORCH_BN
-    model = build(args.model, channels, bn=bn)
-    if args.init == 'keras':
-        keras_init_(model)
-    n_par = sum(p.numel() for p in model.parameters())
-    opt = make_optimizer(model.parameters(), args.adam_eps, args.weight_decay)
-    rng = np.random.RandomState(args.seed)
-    aug = AUGMENT_PRESETS[args.augment]
-    aug_gen = torch.Generator().manual_seed(args.seed + 1)
-    n = len(Xtr)
-    steps = n // args.batch + (1 if n % args.batch else 0)
-    if args.max_batches:
-        steps = min(steps, args.max_batches)
-    print(f'model={args.model} channels={channels} params={n_par} train={n} val={len(Xva)} '
-          f'batch={args.batch} steps/epoch={steps} e_max={e_max} threads={args.threads} '
+
+def fit_deadline(ep, e_max, ep_times, deadline, args):
+    """(stop, e_max): whether the next epoch would end after the deadline, and the schedule's
+    end, shortened so that lr still reaches ~1e-7 at the last epoch that fits (never lengthened)."""
+    if deadline is None or not ep_times:
+        return False, e_max
+    est = float(np.mean(ep_times[-3:]))
+    if time.time() + est > deadline:
+        print(f'stopping before epoch {ep + 1}: deadline {args.deadline} UTC '
+              f'(~{est:.0f} s/epoch)', flush=True)
+        return True, e_max
+    med = float(np.median(ep_times))   # robust to one slow (contended) epoch
+    fit = ep + int((deadline - time.time()) // (med * 1.05))
+    if fit < e_max and fit >= 4:
+        if fit < e_max - 0.5:
+            print(f'  deadline: shortening schedule e_max {e_max} -> {fit}', flush=True)
+        e_max = float(fit)
+    return False, e_max
+
+
+class Trainer:
+    """The model, its optimiser and the shuffling and augmentation streams, seeded from --seed."""
+
+    def __init__(self, args, channels, Xtr, Ytr):
+        self.args, self.Xtr, self.Ytr = args, Xtr, Ytr
+        self.bn = KERAS_BN if args.bn == 'keras' else TORCH_BN
+        self.model = build(args.model, channels, bn=self.bn)
+        if args.init == 'keras':
+            keras_init_(self.model)
+        self.n_par = sum(p.numel() for p in self.model.parameters())
+        self.opt = make_optimizer(self.model.parameters(), args.adam_eps, args.weight_decay)
+        self.rng = np.random.RandomState(args.seed)
+        self.aug = AUGMENT_PRESETS[args.augment]
+        self.aug_gen = torch.Generator().manual_seed(args.seed + 1)
+        self.alpha = torch.tensor(CNN_ALPHA_DEG, dtype=torch.float32)
+        self.n = len(Xtr)
+        self.steps = self.n // args.batch + (1 if self.n % args.batch else 0)
+        if args.max_batches:
+            self.steps = min(self.steps, args.max_batches)
+
+    def epoch(self, ep, e_max):
+        """One epoch over a fresh permutation, lr per step from the schedule: (mean loss, last lr)."""
+        args, model, opt, steps = self.args, self.model, self.opt, self.steps
+        model.train()
+        perm = self.rng.permutation(self.n)
+        tot, cnt = 0.0, 0
+        for b in range(steps):
+            idx = torch.from_numpy(perm[b * args.batch:(b + 1) * args.batch])
+            lr = lrpd(ep + b / steps, e_max, lr1=args.lr_max)
+            for g in opt.param_groups:
+                g['lr'] = lr
+            xb = self.Xtr[idx] if self.aug is None else augment(self.Xtr[idx], self.aug, self.aug_gen)
+            out = model(xb)
+            if args.model == 'cnn':
+                loss = weighted_mse(out, self.Ytr[idx], self.alpha)
+            else:
+                loss = beta_nll(out, self.Ytr[idx], args.beta_nll) if args.beta_nll else gdn_nll(out, self.Ytr[idx])
+            opt.zero_grad(set_to_none=True)
+            loss.backward()
+            opt.step()
+            tot += float(loss) * len(idx)
+            cnt += len(idx)
+        return tot / cnt, lr
+
+    def checkpoint(self, channels, ep, vloss, vmae):
+        return {'state_dict': self.model.state_dict(), 'kind': self.args.model, 'channels': channels,
+                'bn': self.bn._asdict(), 'epoch': ep + 1, 'val_loss': vloss, 'val_mae': list(vmae)}
+
+
+def main(argv=None):
+    args = parse_args(argv)
+    torch.set_num_threads(args.threads)
+    try:
+        torch.set_num_interop_threads(1)
+    except RuntimeError:
+        pass
+    torch.manual_seed(args.seed)
+    np.random.seed(args.seed)
+    channels = tuple(int(c) for c in args.channels.split(','))
+    e_max = args.e_max if args.e_max is not None else float(args.epochs)
+    deadline = parse_deadline(args.deadline)
+    os.makedirs(args.out, exist_ok=True)
+    sessions = args.session_list
+    Xtr, Ytr, Xva, Yva, monitor = training_sets(args, args.data or default_data_dir())
+    t = Trainer(args, channels, Xtr, Ytr)
+    bn, n_par = t.bn, t.n_par
+    print(f'model={args.model} channels={channels} params={n_par} train={t.n} val={len(Xva)} '
+          f'batch={args.batch} steps/epoch={t.steps} e_max={e_max} threads={args.threads} '
           f'seed={args.seed} bn={args.bn}{tuple(bn)} init={args.init} adam_eps={args.adam_eps:g} '
           f'holdout={args.holdout} augment={args.augment} weight_decay={args.weight_decay:g} beta_nll={args.beta_nll:g} sessions={"+".join(sessions)} '
           f'monitor={monitor}', flush=True)
@@ -210,59 +275,28 @@ def main(argv=None):
     t_start = time.time()
     ep_times = []
     for ep in range(args.epochs):
-        if deadline is not None and ep_times:
-            est = float(np.mean(ep_times[-3:]))
-            if time.time() + est > deadline:
-                print(f'stopping before epoch {ep + 1}: deadline {args.deadline} UTC '
-                      f'(~{est:.0f} s/epoch)', flush=True)
-                break
-            # deadline-aware schedule: if fewer epochs than e_max fit before the deadline,
-            # shorten the decay so that lr still reaches ~1e-7 at the last epoch (never lengthen)
-            med = float(np.median(ep_times))   # robust to one slow (contended) epoch
-            fit = ep + int((deadline - time.time()) // (med * 1.05))
-            if fit < e_max and fit >= 4:
-                if fit < e_max - 0.5:
-                    print(f'  deadline: shortening schedule e_max {e_max} -> {fit}', flush=True)
-                e_max = float(fit)
+        stop, e_max = fit_deadline(ep, e_max, ep_times, deadline, args)
+        if stop:
+            break
         t0 = time.time()
-        model.train()
-        perm = rng.permutation(n)
-        tot, cnt = 0.0, 0
-        for b in range(steps):
-            idx = torch.from_numpy(perm[b * args.batch:(b + 1) * args.batch])
-            lr = lrpd(ep + b / steps, e_max, lr1=args.lr_max)
-            for g in opt.param_groups:
-                g['lr'] = lr
-            xb = Xtr[idx] if aug is None else augment(Xtr[idx], aug, aug_gen)
-            out = model(xb)
-            if args.model == 'cnn':
-                loss = weighted_mse(out, Ytr[idx], alpha)
-            else:
-                loss = beta_nll(out, Ytr[idx], args.beta_nll) if args.beta_nll else gdn_nll(out, Ytr[idx])
-            opt.zero_grad(set_to_none=True)
-            loss.backward()
-            opt.step()
-            tot += float(loss) * len(idx)
-            cnt += len(idx)
+        train_loss, lr = t.epoch(ep, e_max)
         t_train = time.time() - t0
-        vloss, vmae, _ = evaluate(model, args.model, Xva, Yva, alpha)
+        vloss, vmae, _ = evaluate(t.model, args.model, Xva, Yva, t.alpha)
         sec = time.time() - t0
         ep_times.append(sec)
-        rec = dict(epoch=ep + 1, train_loss=tot / cnt, val_loss=vloss, val_mae=list(vmae),
-                   lr=lr, e_max=e_max, seconds=sec, train_seconds=t_train)
-        hist.append(rec)
+        hist.append(dict(epoch=ep + 1, train_loss=train_loss, val_loss=vloss, val_mae=list(vmae),
+                         lr=lr, e_max=e_max, seconds=sec, train_seconds=t_train))
         improved = vloss < best[0]
-        ck = {'state_dict': model.state_dict(), 'kind': args.model, 'channels': channels,
-              'bn': bn._asdict(), 'epoch': ep + 1, 'val_loss': vloss, 'val_mae': list(vmae)}
+        ck = t.checkpoint(channels, ep, vloss, vmae)
         if improved:
             best = (vloss, ep + 1)
             torch.save(ck, best_path)
         torch.save(ck, os.path.join(args.out, f'{args.model}_last.pt'))
-        print(f'ep {ep + 1:3d} train {tot / cnt:9.4f} val {vloss:9.4f} mae '
+        print(f'ep {ep + 1:3d} train {train_loss:9.4f} val {vloss:9.4f} mae '
               + ' '.join(f'{m:.3f}' for m in vmae)
               + f' lr {lr:.2e} {sec:6.1f}s{" *" if improved else ""}', flush=True)
         with open(os.path.join(args.out, f'{args.model}_history.json'), 'w') as f:
-            json.dump(dict(args=vars(args), channels=channels, params=n_par, history=hist,
+            json.dump(dict(args=history_args(args), channels=channels, params=n_par, history=hist,
                            best_epoch=best[1], best_val_loss=best[0]), f, indent=1)
         if ep + 1 - best[1] >= args.patience:
             print(f'early stop: no improvement for {args.patience} epochs', flush=True)
@@ -273,8 +307,8 @@ def main(argv=None):
 
     # final metrics from the best weights
     ck = torch.load(best_path)
-    model.load_state_dict(ck['state_dict'])
-    vloss, vmae, _ = evaluate(model, args.model, Xva, Yva, alpha)
+    t.model.load_state_dict(ck['state_dict'])
+    vloss, vmae, _ = evaluate(t.model, args.model, Xva, Yva, t.alpha)
     summary = dict(kind=args.model, channels=channels, params=n_par, seed=args.seed,
                    sessions=sessions, monitor=monitor, augment=args.augment, weight_decay=args.weight_decay,
                    beta_nll=args.beta_nll,
@@ -287,8 +321,13 @@ def main(argv=None):
     print('best:', json.dumps(summary), flush=True)
     if args.export:
         from export_onnx import export_model
-        export_model(model, args.export)
+        export_model(t.model, args.export)
         print('exported', args.export, flush=True)
+
+
+def history_args(args):
+    """The command line as the history records it (argparse's names only)."""
+    return {k: v for k, v in vars(args).items() if k != 'session_list'}
 
 
 if __name__ == '__main__':

@@ -78,7 +78,7 @@ LeverArmFit fitLeverArm(const std::vector<double>& offsets, const std::vector<do
         for (std::size_t j = 0; j < offsets.size(); ++j) {
           const double e = error[i][j];
           if (std::isnan(e)) continue;
-          const double x = std::abs(offsets[j] - A * std::sin(deg(yaws[i])) - d_star);
+          const double x = std::abs(offsets[j] - A * std::sin(deg2rad(yaws[i])) - d_star);
           xx += x * x, xe += x * e, ee += e * e, ++n;
         }
       if (xx <= 0) continue;
@@ -145,7 +145,7 @@ bool pushFromEveryStart(StartMap& m, TaskOptions& opt) {
   for (std::size_t i = 0; i < m.yaws.size(); ++i) {
     for (std::size_t j = 0; j < m.offsets.size(); ++j) {
       opt.start_offset = m.offsets[j];
-      opt.start_yaw = deg(m.yaws[i]);
+      opt.start_yaw = deg2rad(m.yaws[i]);
       const PushingResult r = runSingleArmPushing(opt, 1);
       if (lieservo::sim::programs::observationsFailed(opt)) return false;
       if (m.error.empty()) {

@@ -37,14 +37,16 @@ void print(const char* name, const Gaussian& g) {
               rad2deg(std::sqrt(g.covariance(4, 4))), rad2deg(std::sqrt(g.covariance(5, 5))));
 }
 
-}  // namespace
-
-int main() {
-  // The true contact: 2 mm shear, 3 mm deep, tilted 10° and twisted 5°.
+// The true contact: 2 mm shear, 3 mm deep, tilted 10° and twisted 5°.
+Tangent trueContact() {
   Tangent truth;
   truth << 2.0, 0.0, 3.0, deg2rad(10.0), 0.0, deg2rad(5.0);
+  return truth;
+}
 
-  // Two estimates of it, as two GDN outputs would be: (μ, σ) in the tangent space.
+// 1. Two estimates of it, as two GDN outputs would be: (μ, σ) in the tangent space, each made a
+//    concentrated Gaussian on SE(3).
+bool lessonFromTangent(const Tangent& truth, Gaussian& a, Gaussian& b) {
   Tangent mu_a = truth, mu_b = truth, sigma_a, sigma_b;
   mu_a[0] += 0.4;  // estimate a is 0.4 mm off in x and sure about the rotation
   mu_b[3] += deg2rad(2.0);  // estimate b is 2° off in α and sure about the translation
@@ -52,9 +54,8 @@ int main() {
   sigma_b << 0.1, 0.1, 0.05, deg2rad(3.0), deg2rad(3.0), deg2rad(3.0);
 
   std::printf("1. from the GDN's tangent (mu, sigma) to a concentrated Gaussian\n");
-  Gaussian a, b;
-  check(fromTangentGaussian(mu_a, sigma_a, a) == Status::ok && fromTangentGaussian(mu_b, sigma_b, b) == Status::ok,
-        "fromTangentGaussian: ok for both");
+  const bool ok = fromTangentGaussian(mu_a, sigma_a, a) == Status::ok && fromTangentGaussian(mu_b, sigma_b, b) == Status::ok;
+  check(ok, "fromTangentGaussian: ok for both");
   print("a", a);
   print("b", b);
   // b's translation sd comes out as 0.13, 0.14, 0.07 mm, not its σ of 0.10, 0.10, 0.05: Σ =
@@ -74,11 +75,15 @@ int main() {
     check(close, "b's sd = sqrt(sigma^2 + (rho x sigma_phi / 2)^2) within 0.01 mm");
   }
   check((a.mean.log() - mu_a).norm() < 1e-12, "the mean is exp(mu)");
+  return ok;
+}
 
+// 2. Fusion: the normalised product of the two (Algorithm 3).
+bool lessonFusion(const Tangent& truth, const Gaussian& a, const Gaussian& b, FusionResult<SE3d>& r) {
   std::printf("2. fusion: each estimate corrects the other where it is the surer one\n");
   FusionOptions<double> options;  // the paper's real-time mode: 5 iterations
-  FusionResult<SE3d> r;
-  check(fuse(a, b, options, r) == Status::ok, "fuse: ok");
+  const bool ok = fuse(a, b, options, r) == Status::ok;
+  check(ok, "fuse: ok");
   print("fused", r.fused);
   const Tangent err_a = lminus(a.mean, SE3d::exp(truth)), err_b = lminus(b.mean, SE3d::exp(truth));
   const Tangent err_f = lminus(r.fused.mean, SE3d::exp(truth));
@@ -92,34 +97,53 @@ int main() {
     tighter = tighter && r.fused.covariance(i, i) < 1.01 * std::min(a.covariance(i, i), b.covariance(i, i));
   // (exactly so for a linear product; the 1 % allows for the Jacobians around the operating point)
   check(tighter, "every fused variance is below both inputs' (information adds up)");
+  return ok;
+}
 
+// 3. The iteration: fusion relinearises about its latest estimate.
+bool lessonIteration(const Gaussian& a, const Gaussian& b, const FusionResult<SE3d>& r) {
   std::printf("3. the iteration: each update moves the operating point less\n");
   for (int n = 1; n <= 5; ++n) {
     FusionOptions<double> o;
     o.max_iterations = n;
     FusionResult<SE3d> rn;
-    if (fuse(a, b, o, rn) != Status::ok) return 1;
+    if (fuse(a, b, o, rn) != Status::ok) return false;
     std::printf("  %d iteration(s): last step %.2e, distance to the 5-iteration result %.2e\n", n, rn.step_norm,
                 lminus(rn.fused.mean, r.fused.mean).norm());
   }
+  return true;
+}
 
+// 4. What the covariance means: the spread of left perturbations.
+void lessonMonteCarlo(const Gaussian& g) {
   std::printf("4. Monte Carlo: samples X = exp(eps^) Xbar with eps ~ N(0, Sigma) have covariance Sigma\n");
   sampling::Rng rng(2);
-  const Eigen::LLT<SE3d::Jacobian> llt(r.fused.covariance);
+  const Eigen::LLT<SE3d::Jacobian> llt(g.covariance);
   SE3d::Jacobian S = SE3d::Jacobian::Zero();
   const int N = 20000;
   for (int k = 0; k < N; ++k) {
     const Tangent z = sampling::standardNormalVector<6>(rng);  // z ~ N(0, I)
-    const SE3d X = lplus(r.fused.mean, Tangent(llt.matrixL() * z));
-    const Tangent e = lminus(X, r.fused.mean);
+    const SE3d X = lplus(g.mean, Tangent(llt.matrixL() * z));
+    const Tangent e = lminus(X, g.mean);
     S += e * e.transpose() / N;
   }
   double worst = 0;
-  for (int i = 0; i < 6; ++i) worst = std::max(worst, std::abs(S(i, i) / r.fused.covariance(i, i) - 1));
+  for (int i = 0; i < 6; ++i) worst = std::max(worst, std::abs(S(i, i) / g.covariance(i, i) - 1));
   std::printf("  largest relative difference of a sample variance: %.3f (expected ~ sqrt(2/N) = %.3f)\n", worst,
               std::sqrt(2.0 / N));
   check(worst < 5 * std::sqrt(2.0 / N), "sample variances within 5 standard errors");
+}
 
+}  // namespace
+
+int main() {
+  const Tangent truth = trueContact();
+  Gaussian a, b;
+  FusionResult<SE3d> r;
+  if (lessonFromTangent(truth, a, b) && lessonFusion(truth, a, b, r)) {
+    if (!lessonIteration(a, b, r)) return 1;
+    lessonMonteCarlo(r.fused);
+  }
   std::printf("%s\n", failures == 0 ? "all checks passed" : "SOME CHECKS FAILED");
   return failures == 0 ? 0 : 1;
 }

@@ -25,7 +25,7 @@ ContactState onPlane(ContactModel& cm, const SE3d& X_ws, const SE3d& X_wo = SE3d
 // relative to it, for a plane at height 0 and first touch above the origin.
 const Mat3 kRwf = fromColumns(Vec3::UnitX(), -Vec3::UnitY(), -Vec3::UnitZ());
 SE3d sensorAt(double depth, double a, double b, double R = 20) {
-  return makePose(kRwf * eulerToMatrix(a, b, 0), Vec3(0, 0, R - depth));
+  return makePose(kRwf * SO3d::fromEulerXYZ(a, b, 0).rotationMatrix(), Vec3(0, 0, R - depth));
 }
 }  // namespace
 
@@ -44,7 +44,7 @@ TEST_CASE("contact: flat plane, normal contact at known depth", "[sim][contact]"
 
 TEST_CASE("contact: flat plane at known tilt gives (0, 0, z, alpha, beta, 0)", "[sim][contact]") {
   ContactModel cm;
-  const double a = deg(12), b = deg(-7), z = 4.0;
+  const double a = deg2rad(12), b = deg2rad(-7), z = 4.0;
   const ContactState c = onPlane(cm, sensorAt(z, a, b));
   const Vec6 e = c.label();
   CHECK(e[0] == Approx(0).margin(1e-9));
@@ -56,7 +56,7 @@ TEST_CASE("contact: flat plane at known tilt gives (0, 0, z, alpha, beta, 0)", "
   // tilt = angle between sensor axis and inward normal: cos(tilt) = cos a cos b
   CHECK(std::cos(c.tilt) == Approx(std::cos(a) * std::cos(b)));
   // The plane moved with its object: same label in any object pose.
-  const SE3d X_wo = makePose(eulerToMatrix(0.3, -0.2, 1.0), Vec3(10, -20, 30));
+  const SE3d X_wo = makePose(SO3d::fromEulerXYZ(0.3, -0.2, 1.0).rotationMatrix(), Vec3(10, -20, 30));
   ContactModel cm2;
   const ContactState c2 = onPlane(cm2, X_wo * sensorAt(z, a, b), X_wo);
   CHECK((c2.label() - e).norm() == Approx(0).margin(1e-9));
@@ -102,20 +102,20 @@ TEST_CASE("contact: twist about the normal sticks up to gamma_max", "[sim][conta
   SE3d X = sensorAt(3.0, 0, 0);
   onPlane(cm, X);
   // Rotate the sensor about the surface normal (about its own z axis) by 3°, then by 8° more.
-  X = X * makePose(rotZ(deg(3)), Vec3::Zero());
+  X = X * makePose(rotZ(deg2rad(3)), Vec3::Zero());
   ContactState c = onPlane(cm, X);
-  CHECK(c.twist == Approx(deg(3)));
+  CHECK(c.twist == Approx(deg2rad(3)));
   CHECK_FALSE(c.slipped);
-  X = X * makePose(rotZ(deg(8)), Vec3::Zero());
+  X = X * makePose(rotZ(deg2rad(8)), Vec3::Zero());
   c = onPlane(cm, X);
   CHECK(c.slipped);
-  CHECK(c.twist == Approx(deg(5)));
+  CHECK(c.twist == Approx(deg2rad(5)));
 }
 
 TEST_CASE("contact: sphere (dome) depth and tilt", "[sim][contact]") {
   const double a = 50, R = 20, z = 2.0;
   ContactModel cm;
-  const Vec3 u = Vec3(std::sin(deg(30)), 0, std::cos(deg(30)));  // 30° from the pole in x-z
+  const Vec3 u = Vec3(std::sin(deg2rad(30)), 0, std::cos(deg2rad(30)));  // 30° from the pole in x-z
   // Sensor axis pointing at the centre (−u), centre at distance a + R − z.
   const Vec3 zs = -u, xs = Vec3::UnitY().cross(zs).normalized(), ys = zs.cross(xs);
   const SE3d X = makePose(fromColumns(xs, ys, zs), (a + R - z) * u);
@@ -127,9 +127,9 @@ TEST_CASE("contact: sphere (dome) depth and tilt", "[sim][contact]") {
   CHECK((c.normal_w - u).norm() == Approx(0).margin(1e-12));
   // Tilting the sensor about its own centre by 10° changes the tilt, not the depth.
   ContactModel cm2;
-  const SE3d Xt = X * makePose(rotX(deg(10)), Vec3::Zero());
+  const SE3d Xt = X * makePose(rotX(deg2rad(10)), Vec3::Zero());
   c = cm2.update(Xt, SE3d::identity(), spherePoint(a, Xt));
   CHECK(c.depth == Approx(z));
-  CHECK(c.tilt == Approx(deg(10)));
-  CHECK(c.label()[3] == Approx(deg(10)));
+  CHECK(c.tilt == Approx(deg2rad(10)));
+  CHECK(c.label()[3] == Approx(deg2rad(10)));
 }

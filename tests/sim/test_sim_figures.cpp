@@ -85,7 +85,7 @@ TEST_CASE("figures: tracking and following plots show their data; the dome has e
   for (std::size_t i = 0; i < 8; ++i)
     for (std::size_t j = i + 1; j < 8; ++j) {
       INFO("paths " << i << " and " << j);
-      CHECK(std::abs(std::remainder(headings[i] - headings[j], 2 * kPi)) >= deg(30));
+      CHECK(std::abs(std::remainder(headings[i] - headings[j], 2 * kPi)) >= deg2rad(30));
     }
 }
 

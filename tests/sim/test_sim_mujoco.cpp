@@ -66,7 +66,7 @@ TEST_CASE("mujoco: a box slides when the push exceeds mu m g, and not before", "
     // Sliding: x = ½ (F − μ m g)/m t² = 215 mm; within 25 % (contact softness, start-up).
     const double expected = 0.5 * (F - limit) / m * t * t * 1e3;
     CHECK(w.objectPose(0).translation()[0] == Approx(expected).epsilon(0.25));
-    CHECK(w.objectTilt(0) < lieservo::sim::deg(2));
+    CHECK(w.objectTilt(0) < lieservo::sim::deg2rad(2));
   }
 }
 
@@ -112,14 +112,14 @@ TEST_CASE("mujoco: a tall box topples when pushed above its tipping height, and 
   {
     World w(oneBox(mu, side, height, m));
     push(w, F, 0.75 * h_tip, 1.0);
-    CHECK(w.objectTilt(0) < lieservo::sim::deg(2));
+    CHECK(w.objectTilt(0) < lieservo::sim::deg2rad(2));
     CHECK(w.objectPose(0).translation().head<2>().norm() < 1.0);
   }
   {
     World w(oneBox(mu, side, height, m));
     push(w, F, 1.25 * h_tip, 1.0);
     REQUIRE(w.step(1.0) == Status::ok);
-    CHECK(w.objectTilt(0) > lieservo::sim::deg(60));  // fallen over
+    CHECK(w.objectTilt(0) > lieservo::sim::deg2rad(60));  // fallen over
   }
 }
 
@@ -232,7 +232,7 @@ TEST_CASE("mujoco: fixtures against their analytic surfaces (dome, curved ramp)"
     dome.shape = "dome";
     dome.size = a;
     s.fixtures = {dome};
-    const Vec3 u(std::sin(deg(theta)) * std::cos(1.0), std::sin(deg(theta)) * std::sin(1.0), std::cos(deg(theta)));
+    const Vec3 u(std::sin(deg2rad(theta)) * std::cos(1.0), std::sin(deg2rad(theta)) * std::sin(1.0), std::cos(deg2rad(theta)));
     s.sensors = {tipAt(a * u, u, 3.0)};
     World w(s);
     const TipGeometry geo = w.tipGeometry(0);
@@ -290,13 +290,13 @@ TEST_CASE("mujoco: a carried plate follows its leader; fixed fixtures refuse; re
   CHECK(geo.fixture == 0);
   CHECK(geo.depth == Approx(2.0).margin(1e-9));
   // The leader lifts the plate by 1.5 mm and tilts it by 10° about x through its centre.
-  const SE3d X = makePose(rotX(deg(10)), Vec3(0, 0, 1.5));
+  const SE3d X = makePose(rotX(deg2rad(10)), Vec3(0, 0, 1.5));
   REQUIRE(w.setFixturePose(0, X) == Status::ok);
   CHECK((w.fixturePose(0).translation() - X.translation()).norm() < 1e-9);
   CHECK((w.fixturePose(0).rotationMatrix() - X.rotationMatrix()).norm() < 1e-9);
   geo = w.tipGeometry(0);
   // Tip centre (0, 0, 18) against the plane through (0, 0, 1.5) with normal Rx(10°) z.
-  const Vec3 n = rotX(deg(10)).col(2);
+  const Vec3 n = rotX(deg2rad(10)).col(2);
   CHECK((geo.normal_w - n).norm() < 1e-9);
   CHECK(geo.depth == Approx(20 - n.dot(Vec3(0, 0, 18) - Vec3(0, 0, 1.5))).margin(1e-9));
   // A fixed fixture does not move; bad poses are refused; nothing changes.

@@ -21,14 +21,14 @@ namespace {
 ContactState sampleTrainingContact(lieservo::sampling::Rng& rng) {
   const double r = 5 * std::sqrt(uniform(rng, 0.0, 1.0)), th = 2 * kPi * uniform(rng, 0.0, 1.0);
   const double z = 0.5 + 5.5 * uniform(rng, 0.0, 1.0);
-  const double phi = std::acos(1 - (1 - std::cos(deg(25))) * uniform(rng, 0.0, 1.0)), th2 = 2 * kPi * uniform(rng, 0.0, 1.0);
+  const double phi = std::acos(1 - (1 - std::cos(deg2rad(25))) * uniform(rng, 0.0, 1.0)), th2 = 2 * kPi * uniform(rng, 0.0, 1.0);
   const double p = std::sin(phi) * std::cos(th2), q = std::sin(phi) * std::sin(th2), rr = std::cos(phi);
-  const double a = -std::asin(q), b = -std::atan2(p, rr), g = deg(-5 + 10 * uniform(rng, 0.0, 1.0));
+  const double a = -std::asin(q), b = -std::atan2(p, rr), g = deg2rad(-5 + 10 * uniform(rng, 0.0, 1.0));
   ContactState c;
   c.in_contact = true;
   c.depth = z;
   c.shear = Vec2(r * std::cos(th), r * std::sin(th));
-  c.X_fs = poseFromEuler6((Vec6() << c.shear.x(), c.shear.y(), z, a, b, g).finished());
+  c.X_fs = SE3d::fromEulerXYZ6((Vec6() << c.shear.x(), c.shear.y(), z, a, b, g).finished());
   const Vec3 zs = c.X_fs.rotationMatrix().col(2);
   c.tilt = std::acos(std::min(1.0, zs.z()));
   c.twist = g;
@@ -48,7 +48,7 @@ TEST_CASE("observation: MAE over the training distribution matches the calibrati
   }
   mae /= N;
   for (int i = 0; i < 6; ++i) CHECK(mae[i] == Approx(cal.mae[i]).epsilon(0.04));
-  CHECK(cal.mae[3] == Approx(deg(0.45)));  // radians inside
+  CHECK(cal.mae[3] == Approx(deg2rad(0.45)));  // radians inside
 }
 
 TEST_CASE("observation: sigma grows with shear and at shallow depth", "[sim][observation]") {
@@ -77,7 +77,7 @@ TEST_CASE("observation: truth is log(X_sf) with X_sf = X_fs^-1", "[sim][observat
   ContactState c;
   c.in_contact = true;
   c.depth = 2;
-  c.X_fs = poseFromEuler6((Vec6() << 1, -0.5, 2, 0.1, -0.05, 0.02).finished());
+  c.X_fs = SE3d::fromEulerXYZ6((Vec6() << 1, -0.5, 2, 0.1, -0.05, 0.02).finished());
   const GdnObservation o = gdn.observe(c);
   CHECK((o.truth - c.X_fs.inverse().log()).norm() == Approx(0).margin(1e-12));
   CHECK((SE3d::exp(o.truth).matrix() - c.X_fs.inverse().matrix()).norm() == Approx(0).margin(1e-9));

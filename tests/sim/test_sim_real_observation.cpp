@@ -48,7 +48,7 @@ RealGdnObservations& shared() {
 ContactState contactAt(const Vec6& e) {
   ContactState c;
   c.in_contact = true;
-  c.X_fs = poseFromEuler6(e);
+  c.X_fs = SE3d::fromEulerXYZ6(e);
   c.depth = e[2];
   return c;
 }
@@ -68,7 +68,7 @@ TEST_CASE("real observations: the k-d tree's nearest image is the brute-force ne
   lieservo::sampling::Rng rng(7);
   for (int q = 0; q < 2000; ++q) {
     Vec6 e;  // over and beyond the data's range: shear ±7 mm, depth −1…8 mm, tilts ±35°, γ ±8°
-    const Vec6 half_range(7, 7, 4.5, deg(35), deg(35), deg(8));
+    const Vec6 half_range(7, 7, 4.5, deg2rad(35), deg2rad(35), deg2rad(8));
     for (int i = 0; i < 6; ++i) e[i] = half_range[i] * uniform(rng, -1.0, 1.0);
     e[2] += 3.5;
     double best = 1e300;
@@ -101,10 +101,10 @@ TEST_CASE("real observations: at an image's contact the observation is the direc
     CHECK((obs.sigma - *direct.sigma).cwiseAbs().maxCoeff() == 0);
     // 0.02 mm and 0.02° away (still nearest to the same image): the same error carried over.
     Vec6 e = real.labelEuler(i);
-    e[0] += 0.02, e[4] += deg(0.02);
+    e[0] += 0.02, e[4] += deg2rad(0.02);
     REQUIRE(real.nearest(e) == real.nearest(real.labelEuler(i)));
     REQUIRE(real.observe(contactAt(e), obs) == lieservo::Status::ok);
-    CHECK((obs.truth - poseFromEuler6(e).inverse().log()).norm() < 1e-12);
+    CHECK((obs.truth - SE3d::fromEulerXYZ6(e).inverse().log()).norm() < 1e-12);
     CHECK(((obs.mu - obs.truth) - (direct.mu - real.labelXi(i))).cwiseAbs().maxCoeff() < 1e-9);
   }
   CHECK(real.evaluatedImages() >= 10);

@@ -59,7 +59,7 @@ TEST_CASE("scene errors: pushing set-up", "[sim][errors]") {
     CHECK_THROWS_WITH(runPushTrial(s, o, 1), Contains("start_offset"));
   }
   o = TaskOptions{};
-  o.start_yaw = deg(50);
+  o.start_yaw = deg2rad(50);
   CHECK_THROWS_WITH(runPushTrial(s, o, 1), Contains("start_yaw"));
   o = TaskOptions{};
   for (const double bad : {0.0, -1.0, 3.5, std::numeric_limits<double>::infinity()}) {

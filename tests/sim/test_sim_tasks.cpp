@@ -89,16 +89,16 @@ TEST_CASE("task (c): a fixed start placement or friction is what the trial runs 
   const PushTrial drawn = runPushTrial(s, o, 16001);
   // The draw: sd 2 mm and 2°, clipped at 2 sd.
   CHECK(std::abs(drawn.start_offset) <= 4.0);
-  CHECK(std::abs(drawn.start_yaw) <= deg(4.0) + 1e-12);
+  CHECK(std::abs(drawn.start_yaw) <= deg2rad(4.0) + 1e-12);
   o.start_offset = 3.0;
-  o.start_yaw = deg(-4.0);
+  o.start_yaw = deg2rad(-4.0);
   const PushTrial fixed = runPushTrial(s, o, 16001);
   CHECK(fixed.start_offset == 3.0);
-  CHECK(fixed.start_yaw == deg(-4.0));
+  CHECK(fixed.start_yaw == deg2rad(-4.0));
   // Where the object is after the first 50 ms of the push: y and yaw as placed.
   REQUIRE(!fixed.object_path.empty());
   CHECK(fixed.object_path.front().y() == Approx(s.start.y() + 3.0).margin(0.2));
-  CHECK(fixed.object_path.front().z() == Approx(deg(-4.0)).margin(deg(0.2)));
+  CHECK(fixed.object_path.front().z() == Approx(deg2rad(-4.0)).margin(deg2rad(0.2)));
   CHECK(fixed.skin_friction == drawn.skin_friction);
   CHECK(fixed.gel_stiffness == drawn.gel_stiffness);
   CHECK(fixed.support_friction == drawn.support_friction);

@@ -62,7 +62,7 @@ ContactState ContactModel::evaluate(const SE3d& X_wo, const Anchor& a, const Sur
   const Vec3 zs = X_os.rotationMatrix().col(2);
   st.tilt = std::acos(std::clamp(zs.dot(zf), -1.0, 1.0));
   st.shear = st.X_fs.translation().head<2>();
-  st.twist = eulerXYZ(st.X_fs.rotationMatrix())[2];
+  st.twist = st.X_fs.so3().toEulerXYZ()[2];
   st.point_w = X_wo * sp.point;
   st.normal_w = X_wo.rotationMatrix() * n;
   return st;

@@ -18,7 +18,7 @@ GdnCalibration GdnCalibration::paperTable1() {
 
 GdnCalibration GdnCalibration::fromValues(const Vec6& m, std::string source) {
   GdnCalibration c;
-  c.mae << m[0], m[1], m[2], deg(m[3]), deg(m[4]), deg(m[5]);
+  c.mae << m[0], m[1], m[2], deg2rad(m[3]), deg2rad(m[4]), deg2rad(m[5]);
   c.source = std::move(source);
   c.validate();
   return c;
@@ -83,7 +83,7 @@ GdnObservationModel::GdnObservationModel(const GdnCalibration& calibration, cons
 Vec6 GdnObservationModel::sigmaFor(const ContactState& c) const {
   const double r = c.shear.norm();
   const double shallow = std::max(0.0, 1.5 - c.depth);
-  const double tilt = std::max(0.0, c.tilt - deg(25)) / deg(10);
+  const double tilt = std::max(0.0, c.tilt - deg2rad(25)) / deg2rad(10);
   Vec6 s;
   for (int i = 0; i < 6; ++i) {
     double h = shape_.a0[i] + shape_.a_shear[i] * r / 5.0 + shape_.a_depth[i] * std::min(shallow, 3.0) +

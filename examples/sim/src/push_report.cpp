@@ -39,7 +39,7 @@ PushingCase detail::judgeCase(const PushingSetup& setup, std::vector<PushTrial> 
     // Each miss names the trial's start placement: the single-arm miss follows it
     // (docs/simulation.md, "Margins").
     char start[80];
-    std::snprintf(start, sizeof start, " (start: offset %+.1f mm, yaw %+.1f deg)", t.start_offset, toDeg(t.start_yaw));
+    std::snprintf(start, sizeof start, " (start: offset %+.1f mm, yaw %+.1f deg)", t.start_offset, rad2deg(t.start_yaw));
     auto fail = [&](const std::string& why) {
       pc.failures.push_back(tag + " trial " + std::to_string(i + 1) + ": " + why + start);
     };
@@ -92,7 +92,7 @@ void detail::writeCase(const PushingCase& pc, const std::string& dir, const std:
       const Vec3 f = k < t.follower_path.size() ? t.follower_path[k] : Vec3(NAN, NAN, NAN);
       const Vec3& o = t.object_path[k];
       const double opposition = k < t.opposition.size() ? t.opposition[k] : NAN;
-      csv.row({double(i + 1), double(k), s.x(), s.y(), f.x(), f.y(), o.x(), o.y(), toDeg(o.z()), t.object_tilt[k],
+      csv.row({double(i + 1), double(k), s.x(), s.y(), f.x(), f.y(), o.x(), o.y(), rad2deg(o.z()), t.object_tilt[k],
                t.bearing[k], t.alignment_velocity[k], t.leader_depth[k], t.leader_tilt[k], t.follower_depth[k],
                opposition});
     }

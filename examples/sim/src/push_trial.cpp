@@ -60,7 +60,7 @@ mujoco::SceneSpec pushScene(const PushingSetup& setup, TaskOptions& opt, lieserv
   // clipped at 2 sd; a round object is not turned), or fixed by TaskOptions.
   const bool round = setup.object.shape == "circle";
   const double drawn_offset = 2.0 * std::clamp(lieservo::sampling::standardNormal(rng), -2.0, 2.0);
-  const double drawn_yaw = round ? 0.0 : deg(2.0) * std::clamp(lieservo::sampling::standardNormal(rng), -2.0, 2.0);
+  const double drawn_yaw = round ? 0.0 : deg2rad(2.0) * std::clamp(lieservo::sampling::standardNormal(rng), -2.0, 2.0);
   tr.start_offset = std::isnan(opt.start_offset) ? drawn_offset : opt.start_offset;
   tr.start_yaw = round ? 0.0 : std::isnan(opt.start_yaw) ? drawn_yaw : opt.start_yaw;
   const mujoco::SceneSpec scene =
@@ -156,7 +156,7 @@ void recordFollower(const ContactState& cL, const EngineArm& follower, const Vec
   tr.min_follower_depth = std::min(tr.min_follower_depth, cF.depth);
   tr.follower_path.push_back(follower.pose().translation());
   double angle = std::numeric_limits<double>::quiet_NaN();
-  if (cL.in_contact && cF.in_contact) angle = toDeg(std::acos(std::clamp(cL.normal_w.dot(cF.normal_w), -1.0, 1.0)));
+  if (cL.in_contact && cF.in_contact) angle = rad2deg(std::acos(std::clamp(cL.normal_w.dot(cF.normal_w), -1.0, 1.0)));
   tr.opposition.push_back(angle);
   if (!std::isnan(angle)) tr.min_opposition = std::min(tr.min_opposition, angle);
 }
@@ -172,10 +172,10 @@ bool recordPeriod(const PushingSetup& setup, World& world, const EngineArm& lead
   if (cL.in_contact) tr.leader_vertical_force += fL.z(), ++n.leader_force_steps;
   if (follower) recordFollower(cL, *follower, fF, n, tr);
   tr.sensor_path.push_back(leader.pose().translation());
-  tr.bearing.push_back(toDeg(pusher.bearing()));
+  tr.bearing.push_back(rad2deg(pusher.bearing()));
   tr.alignment_velocity.push_back(pusher.alignmentVelocity()[1]);
   tr.leader_depth.push_back(cL.depth);
-  tr.leader_tilt.push_back(toDeg(eulerXYZ(cL.X_fs.rotationMatrix())[0]));
+  tr.leader_tilt.push_back(rad2deg(cL.X_fs.so3().toEulerXYZ()[0]));
   tr.follower_depth.push_back(follower ? follower->state.depth : 0.0);
   tr.object_path.push_back(objectPlanar(world.objectPose(0)));
   const double r = (leader.pose().translation().head<2>() - setup.target).norm();
@@ -184,7 +184,7 @@ bool recordPeriod(const PushingSetup& setup, World& world, const EngineArm& lead
     tr.passed_target = true;
     return true;
   }
-  tr.object_tilt.push_back(toDeg(world.objectTilt(0)));
+  tr.object_tilt.push_back(rad2deg(world.objectTilt(0)));
   tr.max_tilt = std::max(tr.max_tilt, tr.object_tilt.back());
   if (tr.max_tilt > Bounds::topple_tilt) {
     tr.toppled = true;

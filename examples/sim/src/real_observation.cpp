@@ -46,7 +46,77 @@ struct RealGdnObservations::Impl {
   std::size_t evaluated = 0;
   std::string source, last_error;
   std::mutex mutex;  // the cache and the network, for trials run on several threads
+
+  void addSplit(const std::string& dir, const std::string& split, const dataset::TrainedOn& trained,
+                std::size_t& skipped);
+  void addPreprocessing(const std::string& params);
+  void buildIndex();
+  std::string first_params;  // the preprocessing that the first split's images had
 };
+
+// The split's labelled images that the network did not train on (`skipped` counts the others).
+void RealGdnObservations::Impl::addSplit(const std::string& dir, const std::string& split,
+                                         const dataset::TrainedOn& trained, std::size_t& skipped) {
+  if (!fileExists(dir + "/targets.csv"))
+    throw SceneError("real observations: data set missing: cannot read " + dir + "/targets.csv");
+  std::vector<dataset::TargetRow> rows;
+  try {
+    rows = dataset::readTargetsCsv(dir + "/targets.csv");
+  } catch (const std::exception& e) {
+    throw SceneError(std::string("real observations: ") + e.what());
+  }
+  for (const dataset::TargetRow& r : rows) {
+    if (trained.saw(split, r.sensor_image)) {
+      ++skipped;
+      continue;
+    }
+    Vec6 e = r.euler6Degrees();
+    e.tail<3>() *= kPi / 180;
+    euler.push_back(e);
+    xi.push_back(r.label());
+    paths.push_back(dir + "/processed_images/" + r.sensor_image);
+  }
+}
+
+// Every split's images must have been processed alike: its params file is read and checked (a
+// corrupted one is refused), and must agree with the first split's.
+void RealGdnObservations::Impl::addPreprocessing(const std::string& params) {
+  adapters::PreprocessParams p;
+  try {
+    if (fileExists(params)) p = adapters::PreprocessParams::fromJsonFile(params);
+    p.validate();
+  } catch (const std::exception& e) {
+    throw SceneError(std::string("real observations: ") + e.what());
+  }
+  if (!pre) {
+    pre.emplace(p);
+    first_params = params;
+    return;
+  }
+  const adapters::PreprocessParams& q = pre->params();
+  if (p.processedSize() != q.processedSize() || p.gray != q.gray || p.threshold != q.threshold ||
+      p.threshold_block != q.threshold_block || p.threshold_c != q.threshold_c ||
+      p.circle_mask_radius != q.circle_mask_radius)
+    throw SceneError("real observations: " + params + " processes images differently from " + first_params);
+}
+
+// Scale: each component's standard deviation over the data, so that a millimetre of depth and a
+// degree of tilt weigh by how much the data set varies them; then the k-d tree over the labels.
+void RealGdnObservations::Impl::buildIndex() {
+  const std::size_t n = euler.size();
+  Vec6 mean = Vec6::Zero(), sq = Vec6::Zero();
+  for (const Vec6& e : euler) mean += e;
+  mean /= double(n);
+  for (const Vec6& e : euler) sq += (e - mean).cwiseAbs2();
+  for (int j = 0; j < 6; ++j) {
+    const double sd = std::sqrt(sq[j] / double(n - 1));
+    scale[j] = sd > 0 ? sd : 1.0;
+  }
+  scaled.resize(Eigen::Index(n), 6);
+  for (std::size_t i = 0; i < n; ++i) scaled.row(Eigen::Index(i)) = euler[i].cwiseQuotient(scale).transpose();
+  tree = std::make_unique<Tree>(6, std::cref(scaled), 10);  // builds the index
+  cache.resize(n);
+}
 
 RealGdnObservations::RealGdnObservations(const RealObservationOptions& o) : impl_(std::make_unique<Impl>()) {
   Impl& I = *impl_;
@@ -61,68 +131,18 @@ RealGdnObservations::RealGdnObservations(const RealObservationOptions& o) : impl
     throw SceneError(std::string("real observations: ") + e.what());
   }
   std::size_t skipped = 0;
-  std::string first_params;
   for (const std::string& split : o.splits) {
     if (split != "train" && split != "val")
       throw SceneError("real observations: split '" + split + "' (only the shared train and val sets may be used)");
     const std::string dir = o.data_dir + "/" + split;
-    if (!fileExists(dir + "/targets.csv"))
-      throw SceneError("real observations: data set missing: cannot read " + dir + "/targets.csv");
-    std::vector<dataset::TargetRow> rows;
-    try {
-      rows = dataset::readTargetsCsv(dir + "/targets.csv");
-    } catch (const std::exception& e) {
-      throw SceneError(std::string("real observations: ") + e.what());
-    }
-    for (const dataset::TargetRow& r : rows) {
-      if (trained.saw(split, r.sensor_image)) {
-        ++skipped;
-        continue;
-      }
-      Vec6 e = r.euler6Degrees();
-      e.tail<3>() *= kPi / 180;
-      I.euler.push_back(e);
-      I.xi.push_back(r.label());
-      I.paths.push_back(dir + "/processed_images/" + r.sensor_image);
-    }
-    // Every split's images must have been processed alike: its params file is read and
-    // checked (a corrupted one is refused), and must agree with the first split's.
-    const std::string params = dir + "/processed_image_params.json";
-    adapters::PreprocessParams p;
-    try {
-      if (fileExists(params)) p = adapters::PreprocessParams::fromJsonFile(params);
-      p.validate();
-    } catch (const std::exception& e) {
-      throw SceneError(std::string("real observations: ") + e.what());
-    }
-    if (!I.pre) {
-      I.pre.emplace(p);
-      first_params = params;
-    } else if (p.processedSize() != I.pre->params().processedSize() || p.gray != I.pre->params().gray ||
-               p.threshold != I.pre->params().threshold || p.threshold_block != I.pre->params().threshold_block ||
-               p.threshold_c != I.pre->params().threshold_c ||
-               p.circle_mask_radius != I.pre->params().circle_mask_radius) {
-      throw SceneError("real observations: " + params + " processes images differently from " + first_params);
-    }
+    I.addSplit(dir, split, trained, skipped);
+    I.addPreprocessing(dir + "/processed_image_params.json");
   }
   if (I.euler.size() < 2)
     throw SceneError("real observations: fewer than two labelled images in " + o.data_dir + " that the model of " +
                      o.model_card + " did not train on (" + std::to_string(skipped) + " it did)");
-  // Scale: each component's standard deviation over the data, so that a millimetre of depth
-  // and a degree of tilt weigh by how much the data set varies them.
+  I.buildIndex();
   const std::size_t n = I.euler.size();
-  Vec6 mean = Vec6::Zero(), sq = Vec6::Zero();
-  for (const Vec6& e : I.euler) mean += e;
-  mean /= double(n);
-  for (const Vec6& e : I.euler) sq += (e - mean).cwiseAbs2();
-  for (int j = 0; j < 6; ++j) {
-    const double sd = std::sqrt(sq[j] / double(n - 1));
-    I.scale[j] = sd > 0 ? sd : 1.0;
-  }
-  I.scaled.resize(Eigen::Index(n), 6);
-  for (std::size_t i = 0; i < n; ++i) I.scaled.row(Eigen::Index(i)) = I.euler[i].cwiseQuotient(I.scale).transpose();
-  I.tree = std::make_unique<Tree>(6, std::cref(I.scaled), 10);  // builds the index
-  I.cache.resize(n);
   try {
     I.gdn.emplace(adapters::OnnxPoseModel::fromCard(o.model_card, adapters::ModelKind::gdn));
   } catch (const std::exception& e) {

@@ -48,6 +48,9 @@ struct Renderer::Impl {
     m = nullptr;
     mjcf.clear();
   }
+  void load(const mujoco::SceneSpec& spec, const std::string& text, int width, int height);
+  void addMoments(const mujoco::StateLog& log, const std::vector<std::size_t>& moments, mjvCamera& camera);
+  void addDecor(const std::vector<Marker>& markers, const std::vector<Path>& paths);
 };
 
 Renderer::Renderer(int width, int height) : impl_(std::make_unique<Impl>()), width_(width), height_(height) {
@@ -69,87 +72,73 @@ Renderer::~Renderer() {
   if (impl_->gl) OSMesaDestroyContext(impl_->gl);
 }
 
-cv::Mat Renderer::draw(const mujoco::StateLog& log, const std::vector<std::size_t>& moments, const View& view,
-                       const std::vector<Marker>& markers, const std::vector<Path>& paths) {
-  Impl& I = *impl_;
-  if (log.empty() || moments.empty()) throw RenderError("renderer: nothing to draw (an empty log)");
-  for (std::size_t k : moments)
-    if (k >= log.qpos.size()) throw RenderError("renderer: a moment past the end of the log");
-  if (!OSMesaMakeCurrent(I.gl, I.buffer.data(), GL_UNSIGNED_BYTE, width_, height_))
-    throw RenderError("renderer: OSMesa could not make its context current");
-
-  // The model, its scene and its GPU context, kept while the scene stays the same (a video).
-  const std::string mjcf = mujoco::sceneMjcf(log.scene);
-  if (mjcf != I.mjcf) {
-    I.release();
-    try {
-      I.m = mujoco::loadScene(log.scene);
-    } catch (const SceneError& e) {
-      throw RenderError(std::string("renderer: ") + e.what());
-    }
-    I.d = mj_makeData(I.m);
-    if (!I.d) {
-      I.release();
-      throw RenderError("renderer: out of memory for the scene's data");
-    }
-    // Offscreen buffer of the picture's size; no multisampling (llvmpipe draws 4 samples at
-    // about 2.5× the time of one); a stronger headlight beside the scene's light, so that the
-    // view at an angle is not dark.
-    I.m->vis.global.offwidth = width_;
-    I.m->vis.global.offheight = height_;
-    I.m->vis.quality.offsamples = 0;
-    for (int c = 0; c < 3; ++c) {
-      I.m->vis.headlight.ambient[c] = 0.4f;
-      I.m->vis.headlight.diffuse[c] = 0.5f;
-    }
-    // Without objects the support bears nothing, and the tracking plate starts in its plane
-    // (the two would fight for the same pixels): hide it.
-    if (log.scene.objects.empty())
-      if (const int support = mj_name2id(I.m, mjOBJ_GEOM, "support"); support >= 0) I.m->geom_group[support] = 5;
-    mjv_defaultScene(&I.scene);
-    mjv_makeScene(I.m, &I.scene, kMaxGeoms);
-    I.has_scene = true;
-    mjv_defaultOption(&I.option);
-    mjr_defaultContext(&I.context);
-    mjr_makeContext(I.m, &I.context, mjFONTSCALE_100);
-    I.has_context = true;
-    mjr_setBuffer(mjFB_OFFSCREEN, &I.context);
-    if (I.context.offWidth < width_ || I.context.offHeight < height_) {
-      I.release();
-      throw RenderError("renderer: MuJoCo's offscreen buffer is smaller than the picture");
-    }
-    I.mjcf = mjcf;
+// The model, its scene and its GPU context for `spec` (its MJCF text `text`), at the picture's size.
+void Renderer::Impl::load(const mujoco::SceneSpec& spec, const std::string& text, int width, int height) {
+  release();
+  try {
+    m = mujoco::loadScene(spec);
+  } catch (const SceneError& e) {
+    throw RenderError(std::string("renderer: ") + e.what());
   }
-  for (std::size_t k : moments)
-    if (log.qpos[k].size() != std::size_t(I.m->nq)) throw RenderError("renderer: a logged state does not fit its scene");
+  d = mj_makeData(m);
+  if (!d) {
+    release();
+    throw RenderError("renderer: out of memory for the scene's data");
+  }
+  // Offscreen buffer of the picture's size; no multisampling (llvmpipe draws 4 samples at
+  // about 2.5× the time of one); a stronger headlight beside the scene's light, so that the
+  // view at an angle is not dark.
+  m->vis.global.offwidth = width;
+  m->vis.global.offheight = height;
+  m->vis.quality.offsamples = 0;
+  for (int c = 0; c < 3; ++c) {
+    m->vis.headlight.ambient[c] = 0.4f;
+    m->vis.headlight.diffuse[c] = 0.5f;
+  }
+  // Without objects the support bears nothing, and the tracking plate starts in its plane
+  // (the two would fight for the same pixels): hide it.
+  if (spec.objects.empty())
+    if (const int support = mj_name2id(m, mjOBJ_GEOM, "support"); support >= 0) m->geom_group[support] = 5;
+  mjv_defaultScene(&scene);
+  mjv_makeScene(m, &scene, kMaxGeoms);
+  has_scene = true;
+  mjv_defaultOption(&option);
+  mjr_defaultContext(&context);
+  mjr_makeContext(m, &context, mjFONTSCALE_100);
+  has_context = true;
+  mjr_setBuffer(mjFB_OFFSCREEN, &context);
+  if (context.offWidth < width || context.offHeight < height) {
+    release();
+    throw RenderError("renderer: MuJoCo's offscreen buffer is smaller than the picture");
+  }
+  mjcf = text;
+}
 
-  mjvCamera camera;
-  mjv_defaultCamera(&camera);
-  camera.type = mjCAMERA_FREE;
-  for (int c = 0; c < 3; ++c) camera.lookat[c] = view.lookat[c] * kMm;
-  camera.distance = view.distance * kMm;
-  camera.azimuth = view.azimuth_deg;
-  camera.elevation = view.elevation_deg;
-
-  // The newest moment first, with the fixed scenery; then the earlier ones' moving geoms,
-  // translucent, fading with age.
+// The newest moment first, with the fixed scenery; then the earlier ones' moving geoms,
+// translucent, fading with age.
+void Renderer::Impl::addMoments(const mujoco::StateLog& log, const std::vector<std::size_t>& moments,
+                                mjvCamera& camera) {
   auto pose = [&](std::size_t k) {
-    std::copy(log.qpos[k].begin(), log.qpos[k].end(), I.d->qpos);
-    mj_kinematics(I.m, I.d);
+    std::copy(log.qpos[k].begin(), log.qpos[k].end(), d->qpos);
+    mj_kinematics(m, d);
   };
   pose(moments.back());
-  mjv_updateScene(I.m, I.d, &I.option, nullptr, &camera, mjCAT_ALL, &I.scene);
+  mjv_updateScene(m, d, &option, nullptr, &camera, mjCAT_ALL, &scene);
   const std::size_t n = moments.size();
   for (std::size_t i = 0; i + 1 < n; ++i) {
     pose(moments[i]);
-    const int first = I.scene.ngeom;
-    mjv_addGeoms(I.m, I.d, &I.option, nullptr, mjCAT_DYNAMIC, &I.scene);
+    const int first = scene.ngeom;
+    mjv_addGeoms(m, d, &option, nullptr, mjCAT_DYNAMIC, &scene);
     const float alpha = 0.2f + 0.35f * float(i) / float(n - 1);
-    for (int g = first; g < I.scene.ngeom; ++g) I.scene.geoms[g].rgba[3] *= alpha;
+    for (int g = first; g < scene.ngeom; ++g) scene.geoms[g].rgba[3] *= alpha;
   }
+}
+
+// The markers (discs) and the paths (capsules), as far as the scene has room for them.
+void Renderer::Impl::addDecor(const std::vector<Marker>& markers, const std::vector<Path>& paths) {
   auto addGeom = [&]() -> mjvGeom* {
-    if (I.scene.ngeom >= I.scene.maxgeom) return nullptr;
-    return &I.scene.geoms[I.scene.ngeom++];
+    if (scene.ngeom >= scene.maxgeom) return nullptr;
+    return &scene.geoms[scene.ngeom++];
   };
   for (const Marker& mk : markers) {
     mjvGeom* g = addGeom();
@@ -170,6 +159,32 @@ cv::Mat Renderer::draw(const mujoco::StateLog& log, const std::vector<std::size_
       g->category = mjCAT_DECOR;
     }
   }
+}
+
+cv::Mat Renderer::draw(const mujoco::StateLog& log, const std::vector<std::size_t>& moments, const View& view,
+                       const std::vector<Marker>& markers, const std::vector<Path>& paths) {
+  Impl& I = *impl_;
+  if (log.empty() || moments.empty()) throw RenderError("renderer: nothing to draw (an empty log)");
+  for (std::size_t k : moments)
+    if (k >= log.qpos.size()) throw RenderError("renderer: a moment past the end of the log");
+  if (!OSMesaMakeCurrent(I.gl, I.buffer.data(), GL_UNSIGNED_BYTE, width_, height_))
+    throw RenderError("renderer: OSMesa could not make its context current");
+
+  // The model, its scene and its GPU context, kept while the scene stays the same (a video).
+  if (const std::string mjcf = mujoco::sceneMjcf(log.scene); mjcf != I.mjcf) I.load(log.scene, mjcf, width_, height_);
+  for (std::size_t k : moments)
+    if (log.qpos[k].size() != std::size_t(I.m->nq)) throw RenderError("renderer: a logged state does not fit its scene");
+
+  mjvCamera camera;
+  mjv_defaultCamera(&camera);
+  camera.type = mjCAMERA_FREE;
+  for (int c = 0; c < 3; ++c) camera.lookat[c] = view.lookat[c] * kMm;
+  camera.distance = view.distance * kMm;
+  camera.azimuth = view.azimuth_deg;
+  camera.elevation = view.elevation_deg;
+
+  I.addMoments(log, moments, camera);
+  I.addDecor(markers, paths);
 
   // No shadows: on llvmpipe they double the time of a picture, and the translucent moments
   // read better without them.
@@ -292,7 +307,7 @@ void writePushingPictures(Renderer& r, const PushingResult& result, const std::s
     const View above{Vec3(c.x(), c.y(), 0), fit, 90, -89.9};
     // At an angle: from behind the start, to the side, looking along the push.
     const Vec2 dir = (pc.setup.target - Vec2(t.sensor_path.front().x(), t.sensor_path.front().y())).normalized();
-    const double az = toDeg(std::atan2(dir.y(), dir.x())) - 35;
+    const double az = rad2deg(std::atan2(dir.y(), dir.x())) - 35;
     const View angle{Vec3(c.x(), c.y(), z), 0.95 * fit, az, -32};
     const std::vector<Marker> target = {Marker{Vec3(pc.setup.target.x(), pc.setup.target.y(), 0.3), 12, kMagenta}};
     std::vector<Path> paths = {Path{t.sensor_path, 2.5, kMagenta}};

@@ -73,7 +73,7 @@ void followPath(mujoco::World& world, detail::EngineArm& sa, detail::ServoLoop& 
     if (k % state_every == 0) out.states.add(t, world.positions());
     const ContactState& c = sa.state;
     out.depth_error.add(c.depth - ref_depth);
-    out.tilt.add(toDeg(c.tilt));
+    out.tilt.add(rad2deg(c.tilt));
     if (!c.in_contact) out.contact_kept = false;
     out.distance += (c.point_w - p_prev).norm();
     p_prev = c.point_w;
@@ -81,11 +81,11 @@ void followPath(mujoco::World& world, detail::EngineArm& sa, detail::ServoLoop& 
     log.pos.push_back(X.translation());
     if (k % int(opt.control_rate) == 0) log.axes.push_back({X.translation(), Vec3(X.rotationMatrix().col(2))});
     log.depth.emplace_back(t_global + t, c.depth - ref_depth);
-    log.tilt.emplace_back(t_global + t, toDeg(c.tilt));
+    log.tilt.emplace_back(t_global + t, rad2deg(c.tilt));
     if (csv.isOpen()) {
-      const Vec6 e = euler6(X);
-      csv.row({t_global + t, double(path_id), e[0], e[1], e[2], toDeg(e[3]), toDeg(e[4]), toDeg(e[5]), c.depth,
-               toDeg(c.tilt), c.point_w.x(), c.point_w.y(), c.point_w.z(), c.shear.x(), c.shear.y()});
+      const Vec6 e = X.toEulerXYZ6();
+      csv.row({t_global + t, double(path_id), e[0], e[1], e[2], rad2deg(e[3]), rad2deg(e[4]), rad2deg(e[5]), c.depth,
+               rad2deg(c.tilt), c.point_w.x(), c.point_w.y(), c.point_w.z(), c.shear.x(), c.shear.y()});
     }
     if (done(c)) {
       out.reached_end = true;
@@ -257,7 +257,7 @@ FollowingResult runSurfaceFollowing(const TaskOptions& opt) {
   dome.name = "dome";
   dome.shape = "dome";
   dome.size = a;
-  const double stop_angle = deg(50) * std::clamp(opt.duration_scale, 0.3, 1.0);
+  const double stop_angle = deg2rad(50) * std::clamp(opt.duration_scale, 0.3, 1.0);
   std::vector<PathLog> dome_logs(8);
   {
     const SE3d X0 = makePose(R_down, Vec3(0, 0, a + R - ref_depth));
@@ -265,7 +265,7 @@ FollowingResult runSurfaceFollowing(const TaskOptions& opt) {
     EngineArm sa(world, 0, opt, opt.seed * 15485863 + 5);
     detail::ServoLoop loop;
     for (int i = 0; i < 8; ++i) {
-      const double th = deg(45.0 * i);
+      const double th = deg2rad(45.0 * i);
       world.reset();
       sa.arm.stop();
       sa.restart(loop);

@@ -48,11 +48,11 @@ SE3d legPose(const std::vector<Leg>& legs, double leg_time, double hold, double 
 }
 
 SE3d periodicPose(double t, double T, const SE3d& X0) {
-  const double b[6] = {75, 75, 75, deg(25), deg(25), deg(25)};
+  const double b[6] = {75, 75, 75, deg2rad(25), deg2rad(25), deg2rad(25)};
   const double phi[6] = {kPi / 2, 0, 0, 0, 0, 0};
   double q[6];
   for (int j = 0; j < 6; ++j) q[j] = b[j] * (std::sin(2 * kPi * t / T + phi[j]) - std::sin(phi[j]));
-  return makePose(eulerToMatrix(q[3], q[4], q[5]) * X0.rotationMatrix(), X0.translation() + Vec3(q[0], q[1], q[2]));
+  return makePose(SO3d::fromEulerXYZ(q[3], q[4], q[5]).rotationMatrix() * X0.rotationMatrix(), X0.translation() + Vec3(q[0], q[1], q[2]));
 }
 
 // The scene: the leader's carried plate at the origin (normal +z_w) and the follower's sensor
@@ -79,7 +79,7 @@ mujoco::SceneSpec trackingScene(const TaskOptions& opt, double h, double ref_dep
 // Part 1's legs, out and back along −x, +y, +z and about x (−α), y, z; S < 1 shortens the moves
 // at the same speeds.
 std::vector<Leg> trackingLegs(double S) {
-  const double L = 200 * S, A = deg(60) * S;
+  const double L = 200 * S, A = deg2rad(60) * S;
   std::vector<Leg> legs;
   auto addPair = [&](const std::string& n, Vec3 tr, Vec3 ax, double ang) {
     legs.push_back({n + " out", tr, ax, ang, +1});
@@ -110,24 +110,24 @@ void recordPeriod(const TaskOptions& opt, double t, long k, bool part2, const SE
   const double depth_err = c.depth - ref_depth;
   const Vec3 pc = X_wl.inverse() * c.point_w;
   seg.depth_error.add(depth_err);
-  seg.tilt.add(toDeg(c.tilt));
-  seg.twist.add(toDeg(c.twist));
+  seg.tilt.add(rad2deg(c.tilt));
+  seg.twist.add(rad2deg(c.twist));
   seg.lag.add(pc.head<2>().norm());
   if (!c.in_contact) seg.contact_kept = false;
   const SE3d Xs = follower.pose();
   if (csv.isOpen()) {
-    const Vec6 el = euler6(X_wl), es = euler6(Xs);
-    const Vec6 est = euler6(loop.filter().filtered().mean.inverse());
-    csv.row({t, part2 ? 2.0 : 1.0, el[0], el[1], el[2], toDeg(el[3]), toDeg(el[4]), toDeg(el[5]), es[0], es[1], es[2],
-             toDeg(es[3]), toDeg(es[4]), toDeg(es[5]), c.depth, est[2], toDeg(c.tilt), c.shear.x(), c.shear.y(),
-             toDeg(c.twist), c.slipped ? 1.0 : 0.0});
+    const Vec6 el = X_wl.toEulerXYZ6(), es = Xs.toEulerXYZ6();
+    const Vec6 est = loop.filter().filtered().mean.inverse().toEulerXYZ6();
+    csv.row({t, part2 ? 2.0 : 1.0, el[0], el[1], el[2], rad2deg(el[3]), rad2deg(el[4]), rad2deg(el[5]), es[0], es[1], es[2],
+             rad2deg(es[3]), rad2deg(es[4]), rad2deg(es[5]), c.depth, est[2], rad2deg(c.tilt), c.shear.x(), c.shear.y(),
+             rad2deg(c.twist), c.slipped ? 1.0 : 0.0});
   }
   (part2 ? tr.lead2 : tr.lead1).push_back(X_wl.translation());
   (part2 ? tr.foll2 : tr.foll1).push_back(Xs.translation());
   if (k % int(opt.control_rate) == 0)
     (part2 ? tr.axes2 : tr.axes1).push_back({Xs.translation(), Vec3(Xs.rotationMatrix().col(2))});
   tr.depth_series.emplace_back(t, depth_err);
-  tr.tilt_series.emplace_back(t, toDeg(c.tilt));
+  tr.tilt_series.emplace_back(t, rad2deg(c.tilt));
 }
 
 // The per-period log, dir/tracking.csv.

@@ -25,7 +25,7 @@ bool tipsBeforeSliding(const ObjectSpec& object, double support_friction, double
   // the base centre sliding 1 mm, or the object turning 3° about its leading edge (which moves
   // the base centre up, not along). Past that the ramped force would keep rising over a sliding
   // object's friction and tip it in motion, a dynamic threshold statics does not describe.
-  const double slide = 1.0, tilt = deg(3);
+  const double slide = 1.0, tilt = deg2rad(3);
   for (double t = 0; t < ramp; t += dt) {
     const SE3d X = w.objectPose(0);
     const Vec3 face = X * Vec3(-a, 0, push_height);

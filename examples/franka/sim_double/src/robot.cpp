@@ -150,6 +150,46 @@ void Arm::recover() {
   reflex_.clear();
 }
 
+void Arm::checkMotionLimits(const Twist& v, Twist& v_prev, Twist& a_prev) {
+  // The motion generator's limits, on differences over one 1 ms cycle (the first command
+  // continues from rest, so a jump from zero is a discontinuity).
+  const Twist a = (v - v_prev) / kDt, j = (a - a_prev) / kDt;
+  const double s = v.head<3>().norm(), w = v.tail<3>().norm();
+  const double acc = a.head<3>().norm(), aacc = a.tail<3>().norm();
+  const double jerk = j.head<3>().norm(), ajerk = j.tail<3>().norm();
+  report_.max_speed = std::max(report_.max_speed, s);
+  report_.max_angular_speed = std::max(report_.max_angular_speed, w);
+  report_.max_accel = std::max(report_.max_accel, acc);
+  report_.max_angular_accel = std::max(report_.max_angular_accel, aacc);
+  report_.max_jerk = std::max(report_.max_jerk, jerk);
+  report_.max_angular_jerk = std::max(report_.max_angular_jerk, ajerk);
+  if (s > kMaxSpeed || w > kMaxAngularSpeed) fail("cartesian_motion_generator_velocity_limits_violation");
+  // libfranka's names: a velocity step too large for the acceleration limit is a velocity
+  // discontinuity, an acceleration step too large for the jerk limit an acceleration one.
+  if (acc > kMaxAccel || aacc > kMaxAngularAccel) fail("cartesian_motion_generator_velocity_discontinuity");
+  if (jerk > kMaxJerk || ajerk > kMaxAngularJerk) fail("cartesian_motion_generator_acceleration_discontinuity");
+  v_prev = v;
+  a_prev = a;
+}
+
+void Arm::stepJoints(const Twist& v) {
+  // Resolved rate, then one 1 ms step of the joints.
+  const panda::ResolvedRate r = panda::resolvedRate(q_, v);
+  // The robot follows the twist exactly (no damping): where that needs a joint faster than its
+  // limit, near a singularity or where the twist leaves the workspace, it stops on a reflex.
+  if (r.scale < 1.0 || r.exact_speed_ratio > 1.0) fail("cartesian_motion_generator_joint_velocity_limits_violation");
+  const panda::Jacobian J = panda::jacobian(q_);
+  const double twist_error = (J * r.dq - v).norm();
+  if (r.lambda > 0) ++report_.damped_cycles;
+  else report_.max_twist_error = std::max(report_.max_twist_error, twist_error);
+  report_.min_manipulability = std::min(report_.min_manipulability, panda::manipulability(J));
+  // libfranka judges the commanded motion, and a real joint past its limit stops it too.
+  if (panda::jointLimitMargin(q_ + kDt * r.dq) < 0) fail("cartesian_motion_generator_joint_position_limits_violation");
+  servo_->step(r.dq, load_f_, load_p_, q_, dq_);
+  if (panda::jointLimitMargin(q_) < 0) fail("cartesian_motion_generator_joint_position_limits_violation");
+  report_.max_achieved_error = std::max(report_.max_achieved_error, ((J * dq_).head<3>() - v.head<3>()).norm());
+}
+
 void Arm::control(const std::function<franka::CartesianVelocities(const franka::RobotState&, franka::Duration)>& cb) {
   {
     std::lock_guard<std::mutex> g(mutex_);
@@ -169,7 +209,7 @@ void Arm::control(const std::function<franka::CartesianVelocities(const franka::
     }
   } in_control(*this);
   using Clock = std::chrono::steady_clock;
-  Eigen::Matrix<double, 6, 1> v_prev = Eigen::Matrix<double, 6, 1>::Zero(), a_prev = v_prev;
+  Twist v_prev = Twist::Zero(), a_prev = v_prev;
   auto next = Clock::now();
   for (std::uint64_t k = 0;; ++k) {
     franka::RobotState state;
@@ -181,7 +221,7 @@ void Arm::control(const std::function<franka::CartesianVelocities(const franka::
       paced = !lockstep_;
     }
     const franka::CartesianVelocities c = cb(state, franka::Duration(k == 0 ? 0 : 1));
-    const Eigen::Map<const Eigen::Matrix<double, 6, 1>> v(c.O_dP_EE.data());
+    const Twist v = Eigen::Map<const Twist>(c.O_dP_EE.data());
     if (!v.allFinite()) throw std::invalid_argument("libfranka: Invalid command: commanded values must be finite");
 
     std::unique_lock<std::mutex> lock(mutex_);
@@ -191,41 +231,8 @@ void Arm::control(const std::function<franka::CartesianVelocities(const franka::
       reflex_.clear();
       fail(what);
     }
-    // The motion generator's limits, on differences over one 1 ms cycle (the first command
-    // continues from rest, so a jump from zero is a discontinuity).
-    const Eigen::Matrix<double, 6, 1> a = (v - v_prev) / kDt, j = (a - a_prev) / kDt;
-    const double s = v.head<3>().norm(), w = v.tail<3>().norm();
-    const double acc = a.head<3>().norm(), aacc = a.tail<3>().norm();
-    const double jerk = j.head<3>().norm(), ajerk = j.tail<3>().norm();
-    report_.max_speed = std::max(report_.max_speed, s);
-    report_.max_angular_speed = std::max(report_.max_angular_speed, w);
-    report_.max_accel = std::max(report_.max_accel, acc);
-    report_.max_angular_accel = std::max(report_.max_angular_accel, aacc);
-    report_.max_jerk = std::max(report_.max_jerk, jerk);
-    report_.max_angular_jerk = std::max(report_.max_angular_jerk, ajerk);
-    if (s > kMaxSpeed || w > kMaxAngularSpeed) fail("cartesian_motion_generator_velocity_limits_violation");
-    // libfranka's names: a velocity step too large for the acceleration limit is a velocity
-    // discontinuity, an acceleration step too large for the jerk limit an acceleration one.
-    if (acc > kMaxAccel || aacc > kMaxAngularAccel) fail("cartesian_motion_generator_velocity_discontinuity");
-    if (jerk > kMaxJerk || ajerk > kMaxAngularJerk) fail("cartesian_motion_generator_acceleration_discontinuity");
-    v_prev = v;
-    a_prev = a;
-
-    // Resolved rate, then one 1 ms step of the joints.
-    const panda::ResolvedRate r = panda::resolvedRate(q_, v);
-    // The robot follows the twist exactly (no damping): where that needs a joint faster than its
-    // limit, near a singularity or where the twist leaves the workspace, it stops on a reflex.
-    if (r.scale < 1.0 || r.exact_speed_ratio > 1.0) fail("cartesian_motion_generator_joint_velocity_limits_violation");
-    const panda::Jacobian J = panda::jacobian(q_);
-    const double twist_error = (J * r.dq - v).norm();
-    if (r.lambda > 0) ++report_.damped_cycles;
-    else report_.max_twist_error = std::max(report_.max_twist_error, twist_error);
-    report_.min_manipulability = std::min(report_.min_manipulability, panda::manipulability(J));
-    // libfranka judges the commanded motion, and a real joint past its limit stops it too.
-    if (panda::jointLimitMargin(q_ + kDt * r.dq) < 0) fail("cartesian_motion_generator_joint_position_limits_violation");
-    servo_->step(r.dq, load_f_, load_p_, q_, dq_);
-    if (panda::jointLimitMargin(q_) < 0) fail("cartesian_motion_generator_joint_position_limits_violation");
-    report_.max_achieved_error = std::max(report_.max_achieved_error, ((J * dq_).head<3>() - v.head<3>()).norm());
+    checkMotionLimits(v, v_prev, a_prev);
+    stepJoints(v);
     time_ms_ += 1;
     report_.min_joint_margin = std::min(report_.min_joint_margin, panda::jointLimitMargin(q_));
     if (lockstep_ && permits_ > 0) {

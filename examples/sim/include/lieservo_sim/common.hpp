@@ -32,8 +32,6 @@ class SceneError : public std::invalid_argument {
 };
 
 inline constexpr double kPi = lieservo::pi<double>();
-inline constexpr double deg(double d) { return d * kPi / 180.0; }
-inline constexpr double toDeg(double r) { return r * 180.0 / kPi; }
 
 /// Throws SceneError("<name> must be finite and > 0 (got v)") unless v is finite and > 0.
 void requirePositive(double v, const char* name);
@@ -52,23 +50,14 @@ inline Mat3 fromColumns(const Vec3& x, const Vec3& y, const Vec3& z) {
 }
 inline SE3d makePose(const Mat3& R, const Vec3& t) { return SE3d(SO3d::fromMatrixUnchecked(R), t); }
 
-/// Extrinsic-xyz Euler angles (α, β, γ) of R = Rz(γ) Ry(β) Rx(α) (the paper's pose labels).
-inline Vec3 eulerXYZ(const Mat3& R) {
-  const double b = -std::asin(std::max(-1.0, std::min(1.0, R(2, 0))));
-  return Vec3(std::atan2(R(2, 1), R(2, 2)), b, std::atan2(R(1, 0), R(0, 0)));
-}
+// Degrees, Euler angles and the pose labels (x, y, z, α, β, γ) are the core's: deg2rad and
+// rad2deg (lieservo/units.hpp), SO3::fromEulerXYZ / toEulerXYZ and SE3::fromEulerXYZ6 /
+// toEulerXYZ6 (R = Rz(γ) Ry(β) Rx(α), the paper's labels).
+using lieservo::deg2rad;
+using lieservo::rad2deg;
+/// The elementary rotations (Eigen's angle-axis).
 inline Mat3 rotX(double a) { return Eigen::AngleAxisd(a, Vec3::UnitX()).toRotationMatrix(); }
 inline Mat3 rotY(double a) { return Eigen::AngleAxisd(a, Vec3::UnitY()).toRotationMatrix(); }
 inline Mat3 rotZ(double a) { return Eigen::AngleAxisd(a, Vec3::UnitZ()).toRotationMatrix(); }
-/// R = Rz(γ) Ry(β) Rx(α).
-inline Mat3 eulerToMatrix(double a, double b, double g) { return rotZ(g) * rotY(b) * rotX(a); }
-/// X from (x, y, z, α, β, γ) with R = Rz(γ) Ry(β) Rx(α) (radians).
-inline SE3d poseFromEuler6(const Vec6& e) { return makePose(eulerToMatrix(e[3], e[4], e[5]), e.head<3>()); }
-inline Vec6 euler6(const SE3d& X) {
-  Vec6 e;
-  e.head<3>() = X.translation();
-  e.tail<3>() = eulerXYZ(X.rotationMatrix());
-  return e;
-}
 
 }  // namespace lieservo::sim

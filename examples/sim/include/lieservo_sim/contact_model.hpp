@@ -61,7 +61,7 @@ struct ContactParams {
   double tip_radius = 20.0;           ///< R (mm): 40 mm diameter hemispherical TacTip
   double min_slip_radius = 0.05;      ///< r_min (mm)
   double max_slip_radius = 5.0;       ///< r_max (mm): paper's shear training radius
-  double max_twist = deg(5.0);        ///< γ_max (rad): paper's γ training range
+  double max_twist = deg2rad(5.0);        ///< γ_max (rad): paper's γ training range
   /// μ_c, skin–object sliding friction, in the MuJoCo scenes and in the slip radius: the
   /// TacTip's rubber-like skin (Agilus 30, paper Section 4.2, sec:tactile_sensor) on smooth
   /// plastic; assumed (rubber on plastic is typically 0.5–1), not measured. docs/simulation.md
@@ -87,7 +87,7 @@ struct ContactState {
   Vec3 normal_w = Vec3::UnitZ(); ///< outward normal (work frame)
   bool slipped = false;          ///< the anchor slid during this update
   /// Euler 6-vector (x, y, z, α, β, γ) of X_fs (mm, rad): the GDN training label.
-  Vec6 label() const { return euler6(X_fs); }
+  Vec6 label() const { return X_fs.toEulerXYZ6(); }
 };
 
 class ContactModel {

@@ -18,9 +18,9 @@ namespace lieservo::sim {
 
 struct ArmLimits {
   double max_linear_speed = 250.0;       ///< mm/s
-  double max_angular_speed = deg(90.0);  ///< rad/s
+  double max_angular_speed = deg2rad(90.0);  ///< rad/s
   double max_linear_accel = 1000.0;      ///< mm/s²
-  double max_angular_accel = deg(360.0); ///< rad/s²
+  double max_angular_accel = deg2rad(360.0); ///< rad/s²
 
   void validate() const;  ///< throws SceneError
 };

@@ -112,6 +112,11 @@ class Arm {
  private:
   franka::RobotState stateLocked() const;
   [[noreturn]] void fail(const std::string& what);  // mutex_ held
+  using Twist = Eigen::Matrix<double, 6, 1>;
+  // One 1 ms cycle of a commanded base twist, mutex_ held: the motion generator's limits on
+  // `v` (against the previous cycle's velocity and acceleration, updated), then the joints.
+  void checkMotionLimits(const Twist& v, Twist& v_prev, Twist& a_prev);
+  void stepJoints(const Twist& v);
 
   mutable std::mutex mutex_;
   panda::Joints q_, dq_ = panda::Joints::Zero();
