@@ -84,12 +84,13 @@ std::vector<Row> readRows(const std::string& path) {
 }
 
 // MAE (mm, deg) per depth bin; index kBins: all rows.
-using BinMae = std::array<std::array<double, 6>, kBins + 1>;
 using Vec6 = lieservo::replay::Vec6;
+using BinMae = std::array<Vec6, kBins + 1>;
 
 // MAE of the estimates est[k] (mm, deg) against the rows' labels, by depth.
 BinMae binnedMae(const std::vector<Row>& rows, const std::vector<Vec6>& est) {
-  BinMae mae{};
+  BinMae mae;
+  mae.fill(Vec6::Zero());
   std::array<int, kBins + 1> count{};
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const auto b = static_cast<std::size_t>(depthBin(rows[k].z));
@@ -103,7 +104,7 @@ BinMae binnedMae(const std::vector<Row>& rows, const std::vector<Vec6>& est) {
     ++count[kBins];
   }
   for (std::size_t b = 0; b <= kBins; ++b)
-    for (double& v : mae[b]) v = count[b] ? v / count[b] : NAN;
+    mae[b] = count[b] ? Vec6(mae[b] / double(count[b])) : Vec6::Constant(NAN);
   return mae;
 }
 
@@ -118,7 +119,7 @@ BinMae filterMae(const std::vector<Row>& rows, double sig, bool converged, int& 
   std::vector<lieservo::replay::Sample> samples(rows.size());
   std::vector<ConcentratedGaussian<SE3d>> obs(rows.size());
   for (std::size_t k = 0; k < rows.size(); ++k) {
-    for (int j = 0; j < 6; ++j) samples[k].xi[static_cast<std::size_t>(j)] = rows[k].xi(j);
+    samples[k].xi = rows[k].xi;
     if (lieservo::fromTangentGaussian(rows[k].mu, rows[k].sigma, obs[k]) != Status::ok)  // eq. 14 (eq:se3_inverse_transform)
       throw std::runtime_error("row " + std::to_string(k) + ": observation rejected");
   }

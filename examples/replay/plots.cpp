@@ -31,9 +31,9 @@ double quantile(std::vector<double> v, double q) {
 }  // namespace
 
 void writeScatterPlot(const std::string& path, const std::string& title,
-                      const std::vector<std::array<double, 6>>& actual,
-                      const std::vector<std::array<double, 6>>& predicted,
-                      const std::vector<std::array<double, 6>>& precision) {
+                      const std::vector<Eigen::Matrix<double, 6, 1>>& actual,
+                      const std::vector<Eigen::Matrix<double, 6, 1>>& predicted,
+                      const std::vector<Eigen::Matrix<double, 6, 1>>& precision) {
   const std::size_t n = std::min(actual.size(), predicted.size());
   const bool coloured = precision.size() >= n && n > 0;
   plot::SvgFigure fig(title, 3);

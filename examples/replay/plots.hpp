@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 namespace lieservo::replay {
 
 /// Writes an SVG: six panels (ρ1..ρ3, φ1..φ3 in two rows), each on the actual values' range
@@ -17,8 +19,8 @@ namespace lieservo::replay {
 /// (frame, grid, labels and the diagonal are grey or black). Throws std::runtime_error when
 /// the file cannot be written.
 void writeScatterPlot(const std::string& path, const std::string& title,
-                      const std::vector<std::array<double, 6>>& actual,
-                      const std::vector<std::array<double, 6>>& predicted,
-                      const std::vector<std::array<double, 6>>& precision);
+                      const std::vector<Eigen::Matrix<double, 6, 1>>& actual,
+                      const std::vector<Eigen::Matrix<double, 6, 1>>& predicted,
+                      const std::vector<Eigen::Matrix<double, 6, 1>>& precision);
 
 }  // namespace lieservo::replay

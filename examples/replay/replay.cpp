@@ -86,12 +86,7 @@ std::string splitRole(const std::string& card_path, const std::string& split) {
 }
 
 Vec6 labelFromEulerDegrees(const Vec6& e) {
-  SE3d::Vector6 v;
-  for (int j = 0; j < 6; ++j) v(j) = e[static_cast<std::size_t>(j)];
-  const SE3d::Tangent xi = dataset::labelFromEuler6Degrees(v);  // the data set's one definition
-  Vec6 out{};
-  for (int j = 0; j < 6; ++j) out[static_cast<std::size_t>(j)] = xi(j);
-  return out;
+  return dataset::labelFromEuler6Degrees(e);  // the data set's one definition
 }
 
 std::vector<Sample> readTargets(const std::string& csv_path) {
@@ -100,8 +95,7 @@ std::vector<Sample> readTargets(const std::string& csv_path) {
   for (const dataset::TargetRow& r : dataset::readTargetsCsv(csv_path)) {
     Sample s;
     s.image = r.sensor_image;
-    const auto e = r.euler6Degrees();  // (shear_x, shear_y, pose_z, pose_Rx, pose_Ry, shear_Rz)
-    for (std::size_t j = 0; j < 6; ++j) s.euler[j] = e[static_cast<Eigen::Index>(j)];
+    s.euler = r.euler6Degrees();  // (shear_x, shear_y, pose_z, pose_Rx, pose_Ry, shear_Rz)
     s.xi = labelFromEulerDegrees(s.euler);
     out.push_back(std::move(s));
   }
@@ -109,20 +103,10 @@ std::vector<Sample> readTargets(const std::string& csv_path) {
   return out;
 }
 
-Vec6 toReportUnits(const Vec6& xi) {
-  Vec6 v = xi;
-  for (std::size_t j = 3; j < 6; ++j) v[j] = rad2deg(v[j]);
-  return v;
-}
-
-Vec6 toReportUnits(const SE3d::Tangent& xi) {
-  Vec6 v{};
-  for (int j = 0; j < 6; ++j) v[static_cast<std::size_t>(j)] = j < 3 ? xi(j) : rad2deg(xi(j));
-  return v;
-}
+Vec6 toReportUnits(const Vec6& xi) { return poseRadToDeg(xi); }
 
 Vec6 precisionReportUnits(const Eigen::Matrix<double, 6, 1>& sigma) {
-  Vec6 v{};
+  Vec6 v;
   for (int j = 0; j < 6; ++j) {
     const double s = j < 3 ? sigma(j) : rad2deg(sigma(j));
     v[static_cast<std::size_t>(j)] = 1.0 / s;
@@ -212,7 +196,7 @@ struct Estimates {
 
 // Fraction of |error| <= scale_j · σ (the network's σ), per component.
 Vec6 coverage(const Estimates& est, const Vec6& scale) {
-  Vec6 c{};
+  Vec6 c = Vec6::Zero();
   const std::size_t n = est.actual.size();
   for (std::size_t j = 0; j < 6; ++j) {
     for (std::size_t i = 0; i < n; ++i)
@@ -230,7 +214,7 @@ Estimates table1(const std::vector<ad::Prediction>& gdn_pred, const Networks& ne
   est.actual.resize(n);
   est.gdn_mu.resize(n);
   est.gdn_prec.resize(n);
-  const Vec6 alpha{1, 1, 1, 100, 100, 100};
+  const Vec6 alpha = (Vec6() << 1, 1, 1, 100, 100, 100).finished();
   double nll = 0.0, mse = 0.0;
   std::vector<ad::Prediction> cnn_pred(nets.with_cnn ? n : 0);
   for (std::size_t i = 0; i < cnn_pred.size(); ++i) {
@@ -259,7 +243,7 @@ Estimates table1(const std::vector<ad::Prediction>& gdn_pred, const Networks& ne
     res.gdn_mae[j] /= static_cast<double>(n);
     res.gdn_mean_sigma[j] /= static_cast<double>(n);
   }
-  res.gdn_coverage = coverage(est, Vec6{1, 1, 1, 1, 1, 1});
+  res.gdn_coverage = coverage(est, Vec6::Ones());
   res.have_gdn = true;
   res.gdn_nll_rad = nll / static_cast<double>(n);
   res.gdn_nll_rad_with_c = res.gdn_nll_rad + 3.0 * std::log(2.0 * kPi);
@@ -309,7 +293,7 @@ std::vector<FilterRun> table2(const ReplayOptions& opt, const Networks& nets, co
   }
   if (nets.gdn.hasSigmaCalibration()) {  // the same experiment with the card's calibrated σ
     res.have_calibration = true;
-    res.sigma_scale = nets.gdn.sigma_scale;
+    res.sigma_scale = Eigen::Map<const Vec6>(nets.gdn.sigma_scale.data());
     res.calibration_source = nets.gdn.sigma_calibration_source;
     res.gdn_coverage_calibrated = coverage(est, res.sigma_scale);
     const auto obs = observationsOf(gdnPredictions(nets.gdn, raw, samples), samples);

@@ -49,12 +49,14 @@ struct ReplayOptions {
 /// relative.
 std::string displayPath(const std::string& path, const std::string& root, bool executable = false);
 
-using Vec6 = std::array<double, 6>;
+/// A 6-vector: a label (x, y, z, α, β, γ) or a tangent ξ = [ρ; φ], as in the simulation and
+/// the library (SE3<double>::Tangent).
+using Vec6 = Eigen::Matrix<double, 6, 1>;
 
 struct Sample {
   std::string image;  ///< file name in processed_images/
-  Vec6 euler{};       ///< (x, y, z, α, β, γ), mm and deg
-  Vec6 xi{};          ///< label ξ, mm and rad
+  Vec6 euler = Vec6::Zero();  ///< (x, y, z, α, β, γ), mm and deg
+  Vec6 xi = Vec6::Zero();     ///< label ξ, mm and rad
 };
 
 /// How far a filter's corrections stop from the fusion run to convergence (an update under
@@ -67,8 +69,8 @@ struct FusionError {
 
 struct FilterRow {
   double sigma_psi = 0.0;        ///< mm and deg
-  Vec6 mae{};                    ///< mm, mm, mm, deg, deg, deg
-  Vec6 mean_sigma{};             ///< mean filtered tangent σ (mm, deg)
+  Vec6 mae = Vec6::Zero();         ///< mm, mm, mm, deg, deg, deg
+  Vec6 mean_sigma = Vec6::Zero();  ///< mean filtered tangent σ (mm, deg)
   int failures = 0;              ///< filter steps that did not return ok (filter re-initialised)
   double mean_iterations = 0.0;  ///< fusion iterations per correction
 };
@@ -78,10 +80,10 @@ struct ReplayResults {
   int unseen_of = 0;              ///< with unseen_only: the split's images before the selection
   bool have_gdn = false;
   bool have_cnn = false;
-  Vec6 gdn_mae{};                 ///< mm, deg
-  Vec6 cnn_mae{};
-  Vec6 gdn_mean_sigma{};          ///< mean predicted σ (mm, deg), the network's own
-  Vec6 gdn_coverage{};            ///< fraction of |error| <= σ (network σ; 0.683 for a calibrated Gaussian)
+  Vec6 gdn_mae = Vec6::Zero();         ///< mm, deg
+  Vec6 cnn_mae = Vec6::Zero();
+  Vec6 gdn_mean_sigma = Vec6::Zero();  ///< mean predicted σ (mm, deg), the network's own
+  Vec6 gdn_coverage = Vec6::Zero();    ///< fraction of |error| <= σ (network σ; 0.683 for a calibrated Gaussian)
   double gdn_nll_rad = 0.0;       ///< mean NLL without c, rotations in radians (paper units)
   double gdn_nll_rad_with_c = 0.0;///< ... plus c = 3 ln(2π)
   double cnn_mse_rad = 0.0;       ///< weighted MSE, α = (1,1,1,100,100,100), rotations in radians
@@ -97,9 +99,9 @@ struct ReplayResults {
   std::vector<FusionError> converged_rule_error;
   // When the model card has a σ calibration (ModelCard::sigma_scale), Table 2 again with it:
   bool have_calibration = false;
-  Vec6 sigma_scale{1, 1, 1, 1, 1, 1};
+  Vec6 sigma_scale = Vec6::Ones();
   std::string calibration_source;
-  Vec6 gdn_coverage_calibrated{};
+  Vec6 gdn_coverage_calibrated = Vec6::Zero();
   std::vector<FilterRow> filter_calibrated;
   double seconds_load = 0.0, seconds_inference = 0.0, seconds_filter = 0.0, seconds_plots = 0.0,
          seconds_total = 0.0;
@@ -178,7 +180,6 @@ FilterRun replayFilter(const std::vector<Sample>& samples, const std::vector<Con
                        bool measure_fusion_error = false);
 
 /// mm, rad -> mm, deg (components 4-6).
-Vec6 toReportUnits(const SE3d::Tangent& xi);
 Vec6 toReportUnits(const Vec6& xi);
 /// 1/σ in 1/mm, 1/deg from σ in mm, rad.
 Vec6 precisionReportUnits(const Eigen::Matrix<double, 6, 1>& sigma);

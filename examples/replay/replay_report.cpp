@@ -43,7 +43,7 @@ std::pair<double, double> maeDifference(const FilterRow& a, const FilterRow& b) 
   return {mm, deg};
 }
 
-const Vec6* paperFilterRow(double sigma) {
+const PaperTables::Row* paperFilterRow(double sigma) {
   for (std::size_t i = 0; i < PaperTables::sigma.size(); ++i)
     if (std::fabs(PaperTables::sigma[i] - sigma) <= 1e-12 * std::max(1.0, sigma)) return &PaperTables::filter_mae[i + 1];
   return nullptr;
@@ -52,7 +52,7 @@ const Vec6* paperFilterRow(double sigma) {
 }  // namespace
 
 bool paperFilterRatio(double sigma_psi, std::size_t j, double& ratio) {
-  const Vec6* p = j < 6 ? paperFilterRow(sigma_psi) : nullptr;
+  const PaperTables::Row* p = j < 6 ? paperFilterRow(sigma_psi) : nullptr;
   if (p == nullptr) return false;
   ratio = (*p)[j] / PaperTables::filter_mae[0][j];
   return true;
@@ -112,7 +112,7 @@ std::string ReplayResults::table() const {
     os << "  " << std::left << std::setw(18) << kComp[j] << std::right << " " << f3(gdn_mae[j], precOf(j)) << " ["
        << f3(PaperTables::filter_mae[0][j], precOf(j)) << "]";
     for (const auto& r : filter) {
-      const Vec6* p = paperFilterRow(r.sigma_psi);
+      const PaperTables::Row* p = paperFilterRow(r.sigma_psi);
       os << "  " << f3(r.mae[j], precOf(j));
       if (p != nullptr) os << " [" << f3((*p)[j], precOf(j)) << "]";
       os << " x" << f3(r.mae[j] / gdn_mae[j], 2);
@@ -244,7 +244,7 @@ int ReplayResults::markdownTable2(std::ostream& md, const ReplayOptions& o) cons
     md << "| " << kComp[j] << " | " << f3(gdn_mae[j], precOf(j)) << " [" << f3(PaperTables::filter_mae[0][j], precOf(j))
        << "] |";
     for (const auto& r : filter) {
-      const Vec6* p = paperFilterRow(r.sigma_psi);
+      const PaperTables::Row* p = paperFilterRow(r.sigma_psi);
       md << " " << f3(r.mae[j], precOf(j));
       if (p != nullptr) md << " [" << f3((*p)[j], precOf(j)) << "]";
       md << " |";

@@ -68,10 +68,10 @@ TEST_CASE("replay: every scatter-plot panel shows its data, an empty plot shows 
           "[replay][plots]") {
   const std::string dir = file_test::makeTempDir("replay_plots");
   // 50 points per component inside the axes (actual = predicted ± a little).
-  std::vector<std::array<double, 6>> actual, predicted, precision;
+  std::vector<Vec6> actual, predicted, precision;
   lieservo::sampling::Rng rng(7);
   for (int i = 0; i < 50; ++i) {
-    std::array<double, 6> a{}, p{}, q{};
+    Vec6 a, p, q;
     for (std::size_t j = 0; j < 6; ++j) {
       a[j] = uniform(rng, -5.0, 5.0);
       p[j] = a[j] + 0.1 * uniform(rng, -5.0, 5.0);
@@ -126,7 +126,7 @@ TEST_CASE("replay: labels match the Python reference (examples/gdn/labels_refere
   REQUIRE(rows.size() > 5);
   REQUIRE(rows[0].size() == 13);
   for (std::size_t r = 1; r < rows.size(); ++r) {
-    Vec6 e{};
+    Vec6 e;
     for (std::size_t j = 0; j < 6; ++j) e[j] = std::stod(rows[r][1 + j]);
     const Vec6 xi = labelFromEulerDegrees(e);
     for (std::size_t j = 0; j < 6; ++j) CHECK(xi[j] == Approx(std::stod(rows[r][7 + j])).margin(1e-9));
@@ -142,7 +142,7 @@ TEST_CASE("replay: targets.csv reading and its errors", "[replay]") {
   const auto s = readTargets(csv);
   REQUIRE(s.size() == 1);
   CHECK(s[0].image == "image_1.png");
-  const Vec6 expected_euler{0.5, -1, 1.5, 2, -3, 4};
+  const Vec6 expected_euler = (Vec6() << 0.5, -1, 1.5, 2, -3, 4).finished();
   for (std::size_t j = 0; j < 6; ++j) CHECK(s[0].euler[j] == expected_euler[j]);
   // ξ = log(X_fs⁻¹): the translation of X_sf = -R_fsᵀ t_fs, so for small angles ρ ≈ -t.
   CHECK(s[0].xi[2] == Approx(-1.5).margin(0.15));

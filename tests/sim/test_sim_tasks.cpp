@@ -133,6 +133,7 @@ PushTrial push(const ObjectSpec& object, const SupportSpec& surface, bool dual_a
 TEST_CASE("task (c): the large square on MDF reaches the target (the demo's first trial)", "[sim][task]") {
   if (reduced()) return;  // a whole push: Release only
   const PushTrial t = push(shortObjects()[0], SupportSpec::mdf(), false, false, false, 1001);
+  CHECK(t.object_tilt.size() == t.sensor_path.size());  // one logged row per period, the last one included
   CHECK(t.terminated);
   CHECK(t.contact_kept);
   CHECK(t.target_error < Bounds::pushing_error_max);
@@ -155,6 +156,8 @@ TEST_CASE("task (d): the paper's mount presses the pushed side down and the stab
   // stabilised side up: the mean vertical force each tip exerts on the object.
   // Reduced builds push for 10 s only: the offsets act from the start.
   const PushTrial t = push(tallObjects()[0], SupportSpec::mdf(), true, false, true, 1001, reduced() ? 10 : 120);
+  INFO("passed the target: " << t.passed_target);
+  CHECK(t.object_tilt.size() == t.sensor_path.size());  // also when passing the target ends the push
   INFO("leader " << t.leader_vertical_force << " N, follower " << t.follower_vertical_force << " N");
   CHECK(t.leader_vertical_force < 0);
   CHECK(t.follower_vertical_force > 0);
@@ -184,4 +187,20 @@ TEST_CASE("task (d): dual-arm pushing keeps both contacts", "[sim][task]") {
   CHECK(tt.follower_contact_kept);
   CHECK(tt.max_tilt < Bounds::upright_tilt_max);
   CHECK(tt.target_error < Bounds::pushing_error_max);
+}
+
+TEST_CASE("task (d), tall objects: a push that ends by passing the target logs every period", "[sim][task]") {
+  // The period that passes the target ends the trial: its row of the log has the object's tilt
+  // too (each series has one entry per period; the CSV writes them side by side).
+  if (reduced()) return;  // whole pushes: Release only
+  int passed = 0;
+  for (const ObjectSpec& object : tallObjects())
+    for (std::uint64_t seed = 1001; seed <= 1005 && passed == 0; ++seed) {
+      const PushTrial t = push(object, SupportSpec::mdf(), true, false, true, seed);
+      INFO(object.name << ", seed " << seed);
+      CHECK(t.object_tilt.size() == t.sensor_path.size());
+      CHECK(t.object_path.size() == t.sensor_path.size());
+      passed += t.passed_target;
+    }
+  CHECK(passed > 0);  // the case this test is about occurred
 }

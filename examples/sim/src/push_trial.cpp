@@ -178,13 +178,15 @@ bool recordPeriod(const PushingSetup& setup, World& world, const EngineArm& lead
   tr.leader_tilt.push_back(rad2deg(cL.X_fs.so3().toEulerXYZ()[0]));
   tr.follower_depth.push_back(follower ? follower->state.depth : 0.0);
   tr.object_path.push_back(objectPlanar(world.objectPose(0)));
+  // Every period has its tilt (the log writes one row per period); the period that passes the
+  // target ends the trial before the tilt is judged.
+  tr.object_tilt.push_back(rad2deg(world.objectTilt(0)));
   const double r = (leader.pose().translation().head<2>() - setup.target).norm();
   tr.closest_approach = std::min(tr.closest_approach, r);
   if (tr.closest_approach < lieservo::paper::kAlignmentCutoff && r > tr.closest_approach + kPassedBy) {
     tr.passed_target = true;
     return true;
   }
-  tr.object_tilt.push_back(rad2deg(world.objectTilt(0)));
   tr.max_tilt = std::max(tr.max_tilt, tr.object_tilt.back());
   if (tr.max_tilt > Bounds::topple_tilt) {
     tr.toppled = true;
