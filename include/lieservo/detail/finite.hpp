@@ -3,6 +3,8 @@
 
 #include <Eigen/Core>
 
+#include <lieservo/detail/flatten.hpp>
+
 namespace lieservo {
 namespace detail {
 
@@ -13,7 +15,7 @@ namespace detail {
 /// assumes IEEE arithmetic: not valid under -ffast-math.) Always inlined: as an out-of-line call
 /// the multi-object form costs more than the reduction it saves.
 template <class D0, class... Ds>
-EIGEN_ALWAYS_INLINE bool allFinite(const Eigen::MatrixBase<D0>& m0, const Eigen::MatrixBase<Ds>&... ms) noexcept {
+LIESERVO_ALWAYS_INLINE bool allFinite(const Eigen::MatrixBase<D0>& m0, const Eigen::MatrixBase<Ds>&... ms) noexcept {
   using Scalar = typename D0::Scalar;
   return ((m0 - m0) + ... + (ms - ms)).sum() == Scalar(0);
 }

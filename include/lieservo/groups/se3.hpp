@@ -276,7 +276,7 @@ class SE3 : public LieGroupBase<SE3<Scalar_>, Eigen::Matrix<Scalar_, 6, 1>, Eige
   }
   /// fromMatrix's checks of the stored element (validateElement), without forming the 4×4
   /// matrix: ok, non_finite_input (a NaN or inf anywhere) or not_orthonormal (the rotation).
-  EIGEN_ALWAYS_INLINE Status validate() const noexcept {
+  LIESERVO_ALWAYS_INLINE Status validate() const noexcept {
     if (!detail::allFinite(C_.rotationMatrix()) || !detail::allFinite(r_)) return Status::non_finite_input;
     return C_.validate();
   }

@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 
+#include <lieservo/detail/flatten.hpp>
 #include <lieservo/detail/finite.hpp>
 #include <lieservo/status.hpp>
 #include <lieservo/units.hpp>
@@ -75,7 +76,7 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
   // the half turn), so they are predicted; a branch between forms of similar cost would be
   // mispredicted half the time on angles spread over the half turn (docs/math.md, "SO(3) exp
   // up to a half turn").
-  static EIGEN_ALWAYS_INLINE SO3 exp(const Tangent& phi) {
+  static LIESERVO_ALWAYS_INLINE SO3 exp(const Tangent& phi) {
     const Scalar x = phi.squaredNorm();
     if (x < Scalar(Real(detail::halfAngleShortMaxX<Scalar>()))) {
       const auto kw = detail::lanesEval(detail::kHalfAngleShortSeries<Scalar>.a, x);
@@ -96,7 +97,7 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
   /// the axis sign follows quaternionFromMatrix's rule (largest-magnitude component positive).
   /// In float near the identity (θ < 0.035 rad) a division-free series instead (docs/math.md).
   /// Accurate to a few ulp everywhere, including near π.
-  EIGEN_ALWAYS_INLINE Tangent log() const { return detail::rotationVectorFromMatrix(C_); }
+  LIESERVO_ALWAYS_INLINE Tangent log() const { return detail::rotationVectorFromMatrix(C_); }
   /// log(C)^∨ and the AngleTerms of θ = |φ| from the same work (for J(φ)⁻¹ and Q): no sin/cos.
   Tangent logWithTerms(detail::AngleTerms<Scalar>& terms) const {
     return detail::rotationVectorFromMatrix(C_, &terms);
@@ -171,7 +172,7 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
   }
   /// fromMatrix's checks of the stored matrix at the default tolerance (validateElement):
   /// ok, non_finite_input or not_orthonormal, without a copy.
-  EIGEN_ALWAYS_INLINE Status validate() const noexcept { return check(C_, defaultTolerance()); }
+  LIESERVO_ALWAYS_INLINE Status validate() const noexcept { return check(C_, defaultTolerance()); }
   /// Nearest rotation in the Frobenius norm (SVD: U diag(1, 1, det(UVᵀ)) Vᵀ). Rejects
   /// non-finite input and matrices of rank < 2 (nearest rotation not unique).
   static Status fromMatrixProjected(const Matrix& M, SO3& out) noexcept {
@@ -192,7 +193,7 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
   /// Cheap re-orthonormalisation (a few flops, no SVD): the first two columns are
   /// symmetrically decorrelated and normalised, the third is their cross product. Restores
   /// ‖CᵀC − I‖ to ~eps from a drift of up to ~1e-3. Composition never calls it implicitly.
-  EIGEN_ALWAYS_INLINE void normalize() noexcept {
+  LIESERVO_ALWAYS_INLINE void normalize() noexcept {
     using std::sqrt;
     Vector3 x = C_.col(0), y = C_.col(1);
     const Scalar e = x.dot(y) * Scalar(Real(0.5));
@@ -310,7 +311,7 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
     return fromMatrixUnchecked(C);
   }
   /// I + A φ^ + B φ^φ^ for x = θ² = |φ|² (detail::matrixFromRodrigues).
-  static EIGEN_ALWAYS_INLINE SO3 fromRodrigues(const Tangent& phi, const Scalar& x, const Scalar& A, const Scalar& B) {
+  static LIESERVO_ALWAYS_INLINE SO3 fromRodrigues(const Tangent& phi, const Scalar& x, const Scalar& A, const Scalar& B) {
     SO3 r;
     detail::matrixFromRodrigues(phi, x, A, B, r.C_);
     return r;
@@ -360,7 +361,7 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
 
  private:
   // Finite, ‖CᵀC − I‖_F ≤ tol, det C > 0 (fromMatrix, validate).
-  EIGEN_ALWAYS_INLINE static Status check(const Matrix& C, Scalar tol) noexcept {
+  LIESERVO_ALWAYS_INLINE static Status check(const Matrix& C, Scalar tol) noexcept {
     if (!detail::allFinite(C)) return Status::non_finite_input;
     // ‖CᵀC − I‖_F² from the columns' dot products (CᵀC is symmetric: each off-diagonal entry
     // twice), written out because GCC calls a function per entry of Eigen's 3×3 CᵀC.

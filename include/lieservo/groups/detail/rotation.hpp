@@ -11,6 +11,7 @@
 #include <emmintrin.h>
 #endif
 
+#include <lieservo/detail/flatten.hpp>
 #include <lieservo/units.hpp>
 #include <lieservo/groups/detail/coefficients.hpp>
 
@@ -97,7 +98,7 @@ inline void matrixFromHalfAngle(const Eigen::Matrix<float, 3, 1>& phi, const flo
 /// better than 1 − B(φ_j² + φ_k²), which cancels towards cosθ ≈ −1 at the half turn.
 /// Written into `C`.
 template <class Scalar>
-EIGEN_ALWAYS_INLINE void matrixFromRodrigues(const Eigen::Matrix<Scalar, 3, 1>& phi, const Scalar& x, const Scalar& A,
+LIESERVO_ALWAYS_INLINE void matrixFromRodrigues(const Eigen::Matrix<Scalar, 3, 1>& phi, const Scalar& x, const Scalar& A,
                                 const Scalar& B, Eigen::Matrix<Scalar, 3, 3>& C) {
   const Eigen::Matrix<Scalar, 3, 1> b = B * phi, a = A * phi;
   const Scalar c = Scalar(1) - B * x;
@@ -116,7 +117,7 @@ EIGEN_ALWAYS_INLINE void matrixFromRodrigues(const Eigen::Matrix<Scalar, 3, 1>& 
 #if defined(__SSE2__)
 /// The same for float on SSE, packet by packet as matrixFromHalfAngle's: the same operations on
 /// the same operands as the scalar form, so the same result bit for bit.
-EIGEN_ALWAYS_INLINE void matrixFromRodrigues(const Eigen::Matrix<float, 3, 1>& phi, const float& x, const float& A,
+LIESERVO_ALWAYS_INLINE void matrixFromRodrigues(const Eigen::Matrix<float, 3, 1>& phi, const float& x, const float& A,
                                 const float& B, Eigen::Matrix<float, 3, 3>& C) {
   const __m128 v = _mm_setr_ps(phi(0), phi(1), phi(2), 0.f);
   const __m128 vb = _mm_mul_ps(_mm_set1_ps(B), v);
@@ -201,7 +202,7 @@ inline Eigen::Matrix<Scalar, 4, 1> quaternionFromMatrix(const Eigen::Matrix<Scal
 template <class Scalar, bool WithAngle = true>
 struct AngleFromSinCos {
   Scalar n, theta, factor;
-  EIGEN_ALWAYS_INLINE AngleFromSinCos(const Scalar& n2, const Scalar& c) {
+  LIESERVO_ALWAYS_INLINE AngleFromSinCos(const Scalar& n2, const Scalar& c) {
     using std::atan;
     using std::sqrt;
     if (c > Scalar(0) && n2 < Scalar(Cutoffs<Scalar>::Atan) * c * c) {
@@ -288,7 +289,7 @@ inline Eigen::Matrix<Scalar, 3, 1> rotationVectorNearPi(const Eigen::Matrix<Scal
 // angle step above) out of line, and the calls cost a fifth of a controller step. The rarer
 // branch near π stays a call.
 template <class Scalar>
-EIGEN_ALWAYS_INLINE Eigen::Matrix<Scalar, 3, 1> rotationVectorFromMatrix(const Eigen::Matrix<Scalar, 3, 3>& C,
+LIESERVO_ALWAYS_INLINE Eigen::Matrix<Scalar, 3, 1> rotationVectorFromMatrix(const Eigen::Matrix<Scalar, 3, 3>& C,
                                                             AngleTerms<Scalar>* terms = nullptr) {
   using Real = RealOf<Scalar>;
   const Scalar t = C(0, 0) + C(1, 1) + C(2, 2);

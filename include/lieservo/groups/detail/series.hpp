@@ -19,6 +19,8 @@
 
 #include <Eigen/Core>
 
+#include <lieservo/detail/flatten.hpp>
+
 namespace lieservo {
 namespace detail {
 
@@ -72,7 +74,7 @@ inline Scalar hornerEval(const SeriesTable<K>& s, const Scalar& x) {
 /// not as loops: GCC keeps such loops, and the packets in memory, in some files even under
 /// `#pragma GCC unroll` (SO3 exp over [0, π) 24 against 15 ns in the peer benchmark).
 template <std::size_t I, class Lanes, class Scalar, std::size_t N>
-EIGEN_ALWAYS_INLINE Lanes estrinPair(const std::array<Lanes, N>& q, const Scalar& y) {
+LIESERVO_ALWAYS_INLINE Lanes estrinPair(const std::array<Lanes, N>& q, const Scalar& y) {
   if constexpr (2 * I + 1 < N) {
     return q[2 * I] + y * q[2 * I + 1];
   } else {
@@ -80,7 +82,7 @@ EIGEN_ALWAYS_INLINE Lanes estrinPair(const std::array<Lanes, N>& q, const Scalar
   }
 }
 template <class Lanes, class Scalar, std::size_t N, std::size_t... I>
-EIGEN_ALWAYS_INLINE Lanes estrinReduce(const std::array<Lanes, N>& q, const Scalar& y, std::index_sequence<I...>) {
+LIESERVO_ALWAYS_INLINE Lanes estrinReduce(const std::array<Lanes, N>& q, const Scalar& y, std::index_sequence<I...>) {
   if constexpr (N == 1) {
     return q[0];
   } else {
@@ -92,7 +94,7 @@ EIGEN_ALWAYS_INLINE Lanes estrinReduce(const std::array<Lanes, N>& q, const Scal
 
 /// {f(First), f(First + 1), …}.
 template <class Lanes, int First, class F, std::size_t... I>
-EIGEN_ALWAYS_INLINE std::array<Lanes, sizeof...(I)> lanesFrom(const F& f, std::index_sequence<I...>) {
+LIESERVO_ALWAYS_INLINE std::array<Lanes, sizeof...(I)> lanesFrom(const F& f, std::index_sequence<I...>) {
   return {{f(First + int(I))...}};
 }
 
@@ -102,7 +104,7 @@ EIGEN_ALWAYS_INLINE std::array<Lanes, sizeof...(I)> lanesFrom(const F& f, std::i
 /// rounding of a Horner evaluation (they dominate it), the Estrin tail shortens the chain of
 /// dependent multiply-adds. K ≥ 3 terms, lanes side by side in a[k][0..L−1].
 template <class Scalar, int K, int L>
-EIGEN_ALWAYS_INLINE Eigen::Array<Scalar, L, 1> lanesEval(const RealOf<Scalar> (&a)[K][L], const Scalar& x) {
+LIESERVO_ALWAYS_INLINE Eigen::Array<Scalar, L, 1> lanesEval(const RealOf<Scalar> (&a)[K][L], const Scalar& x) {
   static_assert(K >= 3, "lanesEval needs at least three terms");
   using Lanes = Eigen::Array<Scalar, L, 1>;
   const auto term = [&a](int k) -> Lanes {
