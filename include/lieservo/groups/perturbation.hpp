@@ -21,7 +21,7 @@
 //   inverse  Z = X⁻¹          ∂Z/∂X = −Ad(X⁻¹)
 //   act      q = X p          ∂q/∂X = [I | −q^] (SE(3); SO(3): −q^; 2-D: the same with
 //                             [−q_y; q_x] for the rotation),   ∂q/∂p = R (X's rotation)
-//   lplus    Z = exp(ε^) X    ∂Z/∂X = I,                 ∂Z/∂ε = J_l(ε)
+//   lplus    Z = exp(ε^) X    ∂Z/∂X = Ad(exp(ε^)),       ∂Z/∂ε = J_l(ε)
 //   lminus   τ = ln(X Y⁻¹)^∨  ∂τ/∂X = J_l(τ)⁻¹,          ∂τ/∂Y = −J_r(τ)⁻¹
 //   rplus    Z = X exp(ε^)    ∂Z/∂X = I,                 ∂Z/∂ε = Ad(Z) J_r(ε)
 //   rminus   σ = ln(Y⁻¹ X)^∨  ∂σ/∂X = J_l(σ)⁻¹ Ad(Y⁻¹),  ∂σ/∂Y = −J_l(σ)⁻¹ Ad(Y⁻¹)
@@ -100,9 +100,10 @@ typename G::Point act(const G& X, const typename G::Point& p,
 /// Z = exp(ε^) X with ∂Z/∂X and ∂Z/∂ε.
 template <class G>
 G lplus(const G& X, const typename G::Tangent& eps, typename G::Jacobian& J_X, typename G::Jacobian& J_eps) {
-  J_X.setIdentity();
+  const G E = G::exp(eps);
+  J_X = E.Ad();  // exp(ε^) exp(δ^) X = exp((Ad(exp ε^) δ)^) exp(ε^) X
   J_eps = G::leftJacobian(eps);
-  return lplus(X, eps);
+  return E * X;
 }
 
 /// τ = ln(X Y⁻¹)^∨ with ∂τ/∂X and ∂τ/∂Y.

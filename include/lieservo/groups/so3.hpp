@@ -86,7 +86,7 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
     const auto& p = detail::kExpPieceSeries<Scalar>;
     constexpr int h = detail::ExpPieces<Scalar>::kHalfTurn;
     const Scalar d_half_turn = (x - Scalar(p.hi[h])) - Scalar(p.lo[h]);
-    int i = std::min(int(x * Scalar(p.inv_width)), detail::kExpPieces - 1);
+    int i = std::min(int(detail::realValue(x) * p.inv_width), detail::kExpPieces - 1);
     i = d_half_turn > -Scalar(p.half_turn_max_d) ? h : i;
     const auto AB = detail::lanesEval(p.a[i], (x - Scalar(p.hi[i])) - Scalar(p.lo[i]));
     return fromRodrigues(phi, x, AB(0), AB(1));

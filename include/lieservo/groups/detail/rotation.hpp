@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 
 #include <Eigen/Core>
 
@@ -209,7 +210,12 @@ struct AngleFromSinCos {
       const Scalar inv_c = Scalar(RealOf<Scalar>(1)) / c;
       factor = hornerEval(kSeriesAtan, n2 * (inv_c * inv_c)) * inv_c;
       if (WithAngle) {
-        n = sqrt(n2);
+        // An autodiff scalar at the identity exactly: √0 has no derivative, and n, θ have none
+        // to give (only θ² enters the series terms there, and its derivative is 0).
+        if constexpr (!std::is_floating_point<Scalar>::value)
+          n = n2 > Scalar(0) ? Scalar(sqrt(n2)) : Scalar(0);
+        else
+          n = sqrt(n2);
         theta = factor * n;
       }
       return;

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <type_traits>
 #include <utility>
 
 #include <Eigen/Core>
@@ -24,9 +25,41 @@
 namespace lieservo {
 namespace detail {
 
-/// The real type behind a scalar (double for an autodiff scalar over double).
+/// The floating-point type behind a scalar: the scalar itself for float, double and long double;
+/// for an autodiff scalar the real type of its value (ceres::Jet<double, N>: double), whose
+/// epsilon sets the series' cut-offs. Ceres's NumTraits name the Jet itself as its Real, so the
+/// Jet is unwrapped here (a declaration of the template, not an include: the core needs no Ceres).
+// value(x): the real part (a table index is computed from it, not from the scalar).
+template <class Scalar, class = void>
+struct RealOfImpl {
+  using type = typename Eigen::NumTraits<Scalar>::Real;
+  static type value(const Scalar& x) { return static_cast<type>(x); }
+};
 template <class Scalar>
-using RealOf = typename Eigen::NumTraits<Scalar>::Real;
+struct RealOfImpl<Scalar, std::enable_if_t<std::is_floating_point<Scalar>::value>> {
+  using type = Scalar;
+  static constexpr type value(const Scalar& x) noexcept { return x; }
+};
+}  // namespace detail
+}  // namespace lieservo
+namespace ceres {
+template <typename T, int N>
+struct Jet;
+}  // namespace ceres
+namespace lieservo {
+namespace detail {
+template <class T, int N>
+struct RealOfImpl<ceres::Jet<T, N>, void> {
+  using type = typename RealOfImpl<T>::type;
+  static type value(const ceres::Jet<T, N>& x) { return RealOfImpl<T>::value(x.a); }
+};
+template <class Scalar>
+using RealOf = typename RealOfImpl<Scalar>::type;
+/// The real part of a scalar (itself for float and double, the value of an autodiff scalar).
+template <class Scalar>
+RealOf<Scalar> realValue(const Scalar& x) {
+  return RealOfImpl<Scalar>::value(x);
+}
 
 /// Machine epsilon of the scalar's real type, as long double (cutoffs are computed in long
 /// double at compile time).
