@@ -2,7 +2,8 @@
 # MODE=installed: install this build tree into a prefix, then find_package(lieservo).
 # MODE=subdirectory: the consumer add_subdirectory()s the source tree.
 # MODE=pkgconfig: install into a prefix, then compile main.cpp by hand with the flags
-#   `pkg-config --cflags lieservo` gives (PKG_CONFIG=the pkg-config program).
+#   `pkg-config --cflags --libs <PC_NAME>` gives (PKG_CONFIG=the pkg-config program; PC_NAME
+#   lieservo unless given).
 file(REMOVE_RECURSE ${WORK_DIR})
 if(MODE STREQUAL "pkgconfig")
   execute_process(COMMAND ${CMAKE_COMMAND} --install ${BINARY_DIR} --prefix ${WORK_DIR}/prefix RESULT_VARIABLE rc)
@@ -10,17 +11,20 @@ if(MODE STREQUAL "pkgconfig")
     message(FATAL_ERROR "install failed: ${rc}")
   endif()
   set(ENV{PKG_CONFIG_PATH} "${WORK_DIR}/prefix/share/pkgconfig")
-  execute_process(COMMAND ${PKG_CONFIG} --cflags lieservo OUTPUT_VARIABLE cflags RESULT_VARIABLE rc
+  if(NOT PC_NAME)
+    set(PC_NAME lieservo)
+  endif()
+  execute_process(COMMAND ${PKG_CONFIG} --cflags --libs ${PC_NAME} OUTPUT_VARIABLE cflags RESULT_VARIABLE rc
                   OUTPUT_STRIP_TRAILING_WHITESPACE)
   if(rc)
-    message(FATAL_ERROR "pkg-config --cflags lieservo failed (${rc})")
+    message(FATAL_ERROR "pkg-config --cflags --libs ${PC_NAME} failed (${rc})")
   endif()
   if(NOT cflags MATCHES "${WORK_DIR}/prefix/share/pkgconfig/../../include")
     message(FATAL_ERROR "pkg-config gave '${cflags}', not the install prefix's include folder")
   endif()
   separate_arguments(cflags UNIX_COMMAND "${cflags}")
-  execute_process(COMMAND ${CXX} -std=c++17 -O2 -Wall -Wextra -Wpedantic -Wshadow -Werror ${cflags}
-                          ${CONSUMER_DIR}/main.cpp -o ${WORK_DIR}/consumer RESULT_VARIABLE rc)
+  execute_process(COMMAND ${CXX} -std=c++17 -O2 -Wall -Wextra -Wpedantic -Wshadow -Werror
+                          ${CONSUMER_DIR}/main.cpp ${cflags} -o ${WORK_DIR}/consumer RESULT_VARIABLE rc)
   if(rc)
     message(FATAL_ERROR "compiling the consumer with pkg-config's flags failed (${rc})")
   endif()
