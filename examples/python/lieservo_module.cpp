@@ -606,9 +606,11 @@ void bindControl(py::module_& m) {
 
 }  // namespace
 
-PYBIND11_MODULE(lieservo, m) {
+// `_lieservo`, imported by the package's __init__.py (examples/python/lieservo_package) as `lieservo`.
+PYBIND11_MODULE(_lieservo, m) {
   m.doc() = "lieservo: Lie groups, concentrated Gaussians, fusion and the discriminative Bayes filter "
             "of pose-and-shear tactile servoing (double precision).";
+  m.attr("__version__") = LIESERVO_VERSION_STRING;  // package.xml's, through CMake
   static py::exception<StatusError> error(m, "Error", PyExc_ValueError);
   py::register_exception_translator([](std::exception_ptr p) {
     try {
