@@ -290,6 +290,10 @@ std::vector<FilterRun> table2(const ReplayOptions& opt, const Networks& nets, co
     for (const auto& note : rule.notes) res.notes.push_back("converged rule: " + note);
     res.filter_converged.push_back(rule.row);
     res.converged_rule_error.push_back(rule.fusion_error);
+#ifdef LIESERVO_REPLAY_SMOOTHER
+    res.smoother.push_back(replaySmoother(samples, res.observations, sig, opt.seed));
+    if (!res.smoother.back().refused.empty()) res.notes.push_back("smoother: " + res.smoother.back().refused);
+#endif
   }
   if (nets.gdn.hasSigmaCalibration()) {  // the same experiment with the card's calibrated σ
     res.have_calibration = true;

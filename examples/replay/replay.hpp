@@ -75,6 +75,18 @@ struct FilterRow {
   double mean_iterations = 0.0;  ///< fusion iterations per correction
 };
 
+/// Table 2's experiment through the fixed-interval smoother (lieservo_ceres/smoother.hpp) beside
+/// the filter, at one σψ: both scored on their poses, ln(X̂ₖ)^∨ against the labels.
+struct SmootherRow {
+  double sigma_psi = 0.0;          ///< mm and deg
+  Vec6 filter = Vec6::Zero();      ///< MAE of the filtered means X̄ₖ (mm, deg)
+  Vec6 smoothed = Vec6::Zero();    ///< MAE of the smoothed poses (mm, deg)
+  double seconds_autodiff = 0.0;   ///< ceres::Solve with Jets
+  double seconds_closed_form = 0.0;///< ceres::Solve with lminus's closed-form Jacobians
+  int iterations = 0;              ///< Levenberg–Marquardt iterations (Jets)
+  std::string refused;             ///< the smoother's message when a solve was refused; "" when both converged
+};
+
 struct ReplayResults {
   int n = 0;                      ///< images replayed
   int unseen_of = 0;              ///< with unseen_only: the split's images before the selection
@@ -103,6 +115,8 @@ struct ReplayResults {
   std::string calibration_source;
   Vec6 gdn_coverage_calibrated = Vec6::Zero();
   std::vector<FilterRow> filter_calibrated;
+  /// Table 2 beside the smoother (builds with Ceres; empty otherwise).
+  std::vector<SmootherRow> smoother;
   double seconds_load = 0.0, seconds_inference = 0.0, seconds_filter = 0.0, seconds_plots = 0.0,
          seconds_total = 0.0;
   double cpu_seconds_total = 0.0;  ///< process CPU time (all threads) spent in runReplay
@@ -123,6 +137,7 @@ struct ReplayResults {
   void markdownTable1(std::ostream& md) const;
   int markdownTable2(std::ostream& md, const ReplayOptions& o) const;  ///< ratios within ±15 %
   void markdownCalibrated(std::ostream& md, int within) const;
+  void markdownSmoother(std::ostream& md) const;
   void markdownTail(std::ostream& md, const ReplayOptions& o) const;
 };
 
@@ -172,12 +187,21 @@ struct FilterRun {
   FilterRow row;
   std::vector<Vec6> mu;
   std::vector<Vec6> precision;
+  std::vector<SE3d> mean;  ///< the filtered means X̄ₖ themselves (the smoother's lesson compares poses)
   std::vector<std::string> notes;
   FusionError fusion_error;  ///< with measure_fusion_error; zero otherwise
 };
 FilterRun replayFilter(const std::vector<Sample>& samples, const std::vector<ConcentratedGaussian<SE3d>>& obs,
                        double sigma_psi, std::uint64_t seed, const FusionOptions<double>& fusion = {},
                        bool measure_fusion_error = false);
+
+/// Mean absolute error of poses, ln(X̂ₖ)^∨ against the samples' labels, in mm and degrees.
+Vec6 poseMae(const std::vector<SE3d>& X, const std::vector<Sample>& samples);
+
+/// The smoother beside the filter on one sequence (replayFilter's run and replayMotions' motions,
+/// Σφ = replayProcessNoise): defined in builds with Ceres (replay_smoother.cpp).
+SmootherRow replaySmoother(const std::vector<Sample>& samples, const std::vector<ConcentratedGaussian<SE3d>>& obs,
+                           double sigma_psi, std::uint64_t seed);
 
 /// mm, rad -> mm, deg (components 4-6).
 Vec6 toReportUnits(const Vec6& xi);

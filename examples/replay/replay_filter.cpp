@@ -68,6 +68,7 @@ void recordEstimate(const DiscriminativeBayesFilter<SE3d>& filter, std::size_t k
     Sxi = f.covariance;
   }
   run.mu[k] = toReportUnits(mu);
+  run.mean[k] = f.mean;
   const Eigen::Matrix<double, 6, 1> sdev = Sxi.diagonal().cwiseMax(0.0).cwiseSqrt();
   run.precision[k] = precisionReportUnits(sdev);
   for (std::size_t j = 0; j < 6; ++j) {
@@ -77,6 +78,12 @@ void recordEstimate(const DiscriminativeBayesFilter<SE3d>& filter, std::size_t k
 }
 
 }  // namespace
+
+Vec6 poseMae(const std::vector<SE3d>& X, const std::vector<Sample>& samples) {
+  Vec6 sum = Vec6::Zero();
+  for (std::size_t k = 0; k < X.size(); ++k) sum += (toReportUnits(X[k].log()) - toReportUnits(samples[k].xi)).cwiseAbs();
+  return sum / static_cast<double>(X.size());
+}
 
 FilterRun replayFilter(const std::vector<Sample>& samples, const std::vector<ConcentratedGaussian<SE3d>>& obs,
                        double sig, std::uint64_t seed, const FusionOptions<double>& fusion, bool measure_fusion_error) {
@@ -96,6 +103,7 @@ FilterRun replayFilter(const std::vector<Sample>& samples, const std::vector<Con
   full.fusion.require_convergence = false;
   run.mu.resize(n);
   run.precision.resize(n);
+  run.mean.resize(n);
   long iterations = 0, corrections = 0;
   for (std::size_t k = 0; k < n; ++k) {
     Status s = Status::ok;

@@ -273,6 +273,30 @@ int ReplayResults::markdownTable2(std::ostream& md, const ReplayOptions& o) cons
   return within;
 }
 
+void ReplayResults::markdownSmoother(std::ostream& md) const {
+  if (smoother.empty()) return;
+  md << "\n### Table 2 beside the fixed-interval smoother\n\n"
+        "The same observations, motions and Σφ solved over the whole sequence at once: one nonlinear least-squares "
+        "problem in Ceres (examples/adapters/ceres, `lieservo_ceres/smoother.hpp`; lesson 08). The filter uses frames "
+        "0…k for pose k; the smoother uses every frame. Both are scored on their poses, ln(X̂ₖ)^∨ against the labels "
+        "(the table above scores the filter's tangent-Gaussian mean). Solve times: one run of `ceres::Solve`, with Jets "
+        "and with lminus's closed-form Jacobians (not a benchmark).\n\n"
+        "| σψ | estimate |";
+  for (std::size_t j = 0; j < 6; ++j) md << " " << kComp[j] << " |";
+  md << " solve, Jets / closed form | LM iterations |\n|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const SmootherRow& r : smoother) {
+    if (!r.refused.empty()) {
+      md << "| " << r.sigma_psi << " | refused: " << r.refused << " | | | | | | | | |\n";
+      continue;
+    }
+    md << "| " << r.sigma_psi << " | filter |";
+    for (std::size_t j = 0; j < 6; ++j) md << " " << f3(r.filter[j], precOf(j)) << " |";
+    md << " | |\n| | smoother |";
+    for (std::size_t j = 0; j < 6; ++j) md << " " << f3(r.smoothed[j], precOf(j)) << " |";
+    md << " " << f3(r.seconds_autodiff, 3) << " s / " << f3(r.seconds_closed_form, 3) << " s | " << r.iterations << " |\n";
+  }
+}
+
 void ReplayResults::markdownCalibrated(std::ostream& md, int within) const {
   md << "\n### Table 2 with the model card's σ calibration\n\n";
   md << "The same experiment with each GDN σ multiplied by the card's `sigma_calibration.scale` = (";
@@ -306,7 +330,9 @@ void ReplayResults::markdownTail(std::ostream& md, const ReplayOptions& o) const
     for (const auto& note : notes) md << "- " << note << "\n";
   }
   md << "\n## Timing\n\nload " << f3(seconds_load, 2) << " s, inference " << f3(seconds_inference, 2) << " s"
-     << (inference_cached ? " (cached)" : "") << ", filter (" << filter.size() + filter_calibrated.size() + filter_converged.size() << " runs) " << f3(seconds_filter, 2)
+     << (inference_cached ? " (cached)" : "") << ", filter (" << filter.size() + filter_calibrated.size() + filter_converged.size() << " runs"
+     << (smoother.empty() ? std::string() : ", " + std::to_string(2 * smoother.size()) + " smoother solves") << ") "
+     << f3(seconds_filter, 2)
      << " s, plots " << f3(seconds_plots, 2) << " s, total " << f3(seconds_total, 2) << " s wall, "
      << f3(cpu_seconds_total, 1) << " s CPU (all threads; the wall time depends on the machine's load). "
         "With `--cache FILE` the network outputs are kept (keyed by the ONNX files' hashes) and a re-run "
@@ -319,6 +345,7 @@ std::string ReplayResults::markdown(const ReplayOptions& o, const std::string& c
   markdownTable1(md);
   const int within = markdownTable2(md, o);
   if (have_calibration) markdownCalibrated(md, within);
+  markdownSmoother(md);
   markdownTail(md, o);
   return md.str();
 }
