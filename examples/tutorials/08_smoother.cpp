@@ -9,8 +9,8 @@
 //   - each observation Z_k (the GDN's μ, σ as a concentrated Gaussian, eq. 14) is a residual
 //     ln(X_k Z_k⁻¹)^∨ whitened by its covariance;
 //   - each known sensor motion T_k is a residual ln(X_k (T_k X_{k−1})⁻¹)^∨ whitened by the
-//     filter's process noise Σφ = Σψ (eqs. 23–24, eqn:se3_filter_exp_state_trans_model,
-//     eqn:se3_filter_exp_state_trans_cov);
+//     filter's process noise Σφ = Σψ (eq. 23, eqn:se3_filter_exp_state_trans_model, and
+//     eq. 24, eqn:se3_filter_exp_state_trans_cov);
 //   - the poses live on the SE3Manifold (left perturbation), and Jets differentiate lieservo's
 //     own log, or the closed-form Jacobians of lminus do (the two timings are printed).
 // examples/replay/replay_smoother.cpp makes the two solves and scores them (read it beside this

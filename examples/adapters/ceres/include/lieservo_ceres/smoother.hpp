@@ -2,10 +2,12 @@
 // trajectory of contact poses X_0 … X_{n−1} on SE(3) as one nonlinear least-squares problem in Ceres,
 // under the filter's own models (Lloyd & Lepora, Section 3.2):
 //
-//   observation k   Z_k ~ N_c(X_k, Σ_k)        r = L_k⁻¹ ln(X_k Z_k⁻¹)^∨        (eq. 14, eqn:se3_inverse_transform,
-//                                                                              gives Z_k and Σ_k from the GDN's μ, σ)
-//   motion k ≥ 1    X_k = exp(φ_k^) T_k X_{k−1}  r = L_φ⁻¹ ln(X_k (T_k X_{k−1})⁻¹)^∨  (eqs. 23–24,
-//                   φ_k ~ N(0, Σφ)                                             eqn:se3_filter_exp_state_trans_model)
+//   observation k   Z_k ~ N_c(X_k, Σ_k)           r = L_k⁻¹ ln(X_k Z_k⁻¹)^∨
+//   motion k ≥ 1    X_k = exp(φ_k^) T_k X_{k−1},  r = L_φ⁻¹ ln(X_k (T_k X_{k−1})⁻¹)^∨
+//                   φ_k ~ N(0, Σφ)
+//
+// Z_k and Σ_k come from the GDN's μ, σ by eq. 14 (eq:se3_inverse_transform); the motion model is
+// eq. 23 (eqn:se3_filter_exp_state_trans_model) and its noise eq. 24 (eqn:se3_filter_exp_state_trans_cov).
 //
 // with Σ = L Lᵀ (Cholesky), so that each residual is whitened. The filter (Algorithm 2) uses the
 // same two terms causally; the smoother uses every frame for every pose, which makes it the best
