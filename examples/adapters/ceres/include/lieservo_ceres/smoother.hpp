@@ -22,6 +22,7 @@
 // converge.
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <cstddef>
 #include <string>
@@ -29,10 +30,10 @@
 
 #include <ceres/ceres.h>
 
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 
 #include <lieservo/estimation/concentrated_gaussian.hpp>
+#include <lieservo/estimation/detail/linalg.hpp>
 #include <lieservo/groups.hpp>
 #include <lieservo_ceres/manifold.hpp>
 
@@ -59,10 +60,12 @@ struct SmootherReport {
 
 namespace detail {
 
-/// L⁻¹ of the Cholesky factor of an SPD 6×6 (the whitening of a residual with that covariance).
+/// L⁻¹ of the Cholesky factor of an SPD 6×6 (the whitening of a residual with that covariance):
+/// the library's checked factor, the one validate() accepted.
 inline Eigen::Matrix<double, 6, 6> whitening(const Eigen::Matrix<double, 6, 6>& S) {
-  const Eigen::LLT<Eigen::Matrix<double, 6, 6>> llt(S);
-  return llt.matrixL().solve(Eigen::Matrix<double, 6, 6>::Identity());
+  Eigen::Matrix<double, 6, 6> L;
+  (void)lieservo::detail::choleskyChecked(S, L);  // checkInputs refused what it would refuse
+  return L.triangularView<Eigen::Lower>().solve(Eigen::Matrix<double, 6, 6>::Identity());
 }
 
 /// r = W ln(X Z⁻¹)^∨ for the pose block x and a fixed Z (autodiff through Jets).
@@ -101,16 +104,16 @@ inline void toAmbient(const Eigen::Matrix<double, 6, 6>& J_tangent, const double
   out = J_tangent * M;
 }
 
-/// The observation residual with lminus's closed-form Jacobian, ∂τ/∂X = J_l(τ)⁻¹.
+/// The observation residual with lminus's closed-form Jacobian, ∂τ/∂X = J_l(τ)⁻¹
+/// (groups/perturbation.hpp).
 class ObservationCost final : public ::ceres::SizedCostFunction<6, 7> {
  public:
   ObservationCost(const SE3<double>& Z, const Eigen::Matrix<double, 6, 6>& W) : Z_(Z), W_(W) {}
   bool Evaluate(double const* const* p, double* r, double** J) const override {
-    SE3<double>::Jacobian J_X, J_Z;
-    const SE3<double>::Tangent tau = lminus(AmbientOf<SE3<double>>::read(p[0]), Z_, J_X, J_Z);
+    const SE3<double>::Tangent tau = lminus(AmbientOf<SE3<double>>::read(p[0]), Z_);
     Eigen::Map<Eigen::Matrix<double, 6, 1>> res(r);
     res = W_ * tau;
-    if (J != nullptr && J[0] != nullptr) toAmbient(W_ * J_X, p[0], J[0]);
+    if (J != nullptr && J[0] != nullptr) toAmbient(W_ * SE3<double>::leftJacobianInverse(tau), p[0], J[0]);
     return true;
   }
 
@@ -164,7 +167,7 @@ inline SmootherReport checkInputs(const std::vector<ConcentratedGaussian<SE3<dou
     return refuse(Status::invalid_argument, static_cast<long>(k),
                   obs.size() < motions.size() ? "missing: no observation for this motion" : "missing: no motion for this observation");
   }
-  if (checkCovariance(Q) != Status::ok) return refuse(checkCovariance(Q), -1, "the process noise Σφ");
+  if (const Status s = checkCovariance(Q); s != Status::ok) return refuse(s, -1, "the process noise Σφ");
   for (std::size_t k = 0; k < obs.size(); ++k) {
     const long f = static_cast<long>(k);
     if (!obs[k].mean.matrix().allFinite() || !obs[k].covariance.allFinite())
@@ -242,14 +245,13 @@ inline SmootherReport smooth(const std::vector<ConcentratedGaussian<SE3<double>>
       const double e = lminus(ceres_adapter::AmbientOf<SE3<double>>::read(&x[7 * k]), observations[k].mean).norm();
       if (e > worst_norm) worst_norm = e, worst = static_cast<long>(k);
     }
-    SmootherReport r = detail::refuse(Status::not_converged, worst,
-                                      "the largest observation residual where the solver stopped after " +
-                                          std::to_string(report.iterations) + " iterations (" + summary.message + ")");
-    r.iterations = report.iterations;
-    r.seconds = report.seconds;
-    r.initial_cost = report.initial_cost;
-    r.final_cost = report.final_cost;
-    return r;
+    const SmootherReport refused = detail::refuse(Status::not_converged, worst,
+                                                  "the largest observation residual where the solver stopped after " +
+                                                      std::to_string(report.iterations) + " iterations (" + summary.message + ")");
+    report.status = refused.status;
+    report.frame = refused.frame;
+    report.message = refused.message;
+    return report;
   }
   std::vector<SE3<double>> out(n);
   for (std::size_t k = 0; k < n; ++k) out[k] = AmbientOf<SE3<double>>::read(&x[7 * k]);
