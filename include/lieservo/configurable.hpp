@@ -6,6 +6,7 @@
 // changes nothing; a constructor given options keeps the refusal as configurationStatus(), and
 // the class's step() returns it until a configure() succeeds.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <lieservo/status.hpp>
 
@@ -46,3 +47,5 @@ class Configurable {
 };
 
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

@@ -3,6 +3,7 @@
 // dual-arm leader/follower (decentralised, and with a centralised follower) and the paper's
 // controller presets (Tables 6–9); the tactile loop that runs a filter and a controller together.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <lieservo/control/centralised_dual_arm.hpp>
 #include <lieservo/control/dual_arm.hpp>
@@ -11,3 +12,5 @@
 #include <lieservo/control/pushing_controller.hpp>
 #include <lieservo/control/tactile_loop.hpp>
 #include <lieservo/control/tactile_servo_controller.hpp>
+
+#include <lieservo/detail/options_pop.hpp>

@@ -2,6 +2,7 @@
 // status codes, units, Lie groups, estimation, control, real-time utilities, sampling.
 // Include the area headers (e.g. <lieservo/groups.hpp>) instead to compile less.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <lieservo/control.hpp>
 #include <lieservo/estimation.hpp>
@@ -10,3 +11,5 @@
 #include <lieservo/sampling.hpp>
 #include <lieservo/status.hpp>
 #include <lieservo/units.hpp>
+
+#include <lieservo/detail/options_pop.hpp>

@@ -6,9 +6,12 @@
 //   frames.hpp               sensor body twist → base twist of the EE origin (Ad of SE3)
 //   velocity_pipeline.hpp    all of the above as one 1 kHz callback body
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <lieservo/realtime/frames.hpp>
 #include <lieservo/realtime/latest_value_channel.hpp>
 #include <lieservo/realtime/velocity_pipeline.hpp>
 #include <lieservo/realtime/velocity_smoother.hpp>
 #include <lieservo/realtime/watchdog.hpp>
+
+#include <lieservo/detail/options_pop.hpp>

@@ -7,6 +7,7 @@
 // errors the same way, with the last three codes for what only they meet, and a
 // human-readable detail from their lastError().
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 namespace lieservo {
 
@@ -53,3 +54,5 @@ constexpr const char* describe(Status s) noexcept {
 constexpr bool succeeded(Status s) noexcept { return s == Status::ok; }
 
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

@@ -2,6 +2,7 @@
 // only at the edges (dataset labels, presets, reports). Translation units are the caller's
 // (the paper uses millimetres) and are never converted here.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <type_traits>
 
@@ -53,3 +54,5 @@ Eigen::Matrix<Scalar, 6, 1> poseRadToDeg(const Eigen::Matrix<Scalar, 6, 1>& v) {
 }
 
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

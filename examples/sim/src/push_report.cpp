@@ -9,6 +9,19 @@
 
 namespace lieservo::sim {
 
+PushVerdict judgeTrial(const PushingSetup& setup, const PushTrial& t) {
+  PushVerdict v;
+  v.reached = t.terminated && !t.toppled && !t.passed_target;
+  v.within_error = v.reached && t.target_error <= Bounds::pushing_error_max;
+  v.contact_kept = t.contact_kept;
+  if (setup.dual_arm) {
+    v.follower_contact_kept = t.follower_contact_kept;
+    v.upright = t.max_tilt <= Bounds::upright_tilt_max;
+    v.opposed = t.min_opposition >= Bounds::opposition_min;
+  }
+  return v;
+}
+
 PushingCase detail::judgeCase(const PushingSetup& setup, std::vector<PushTrial> trials, bool judged, const TaskOptions& opt) {
   PushingCase pc;
   pc.setup = setup;
@@ -43,6 +56,7 @@ PushingCase detail::judgeCase(const PushingSetup& setup, std::vector<PushTrial> 
     auto fail = [&](const std::string& why) {
       pc.failures.push_back(tag + " trial " + std::to_string(i + 1) + ": " + why + start);
     };
+    const PushVerdict verdict = judgeTrial(setup, t);
     if (t.toppled) {
       std::snprintf(buf, sizeof buf, "toppled (tilt %.0f deg > %.0f deg)", t.max_tilt, Bounds::topple_tilt);
       fail(buf);
@@ -50,25 +64,25 @@ PushingCase detail::judgeCase(const PushingSetup& setup, std::vector<PushTrial> 
       std::snprintf(buf, sizeof buf, "passed the target at %.0f mm without reaching it (termination within %.0f mm)",
                     t.closest_approach, opt.contact.tip_radius);
       fail(buf);
-    } else if (!t.terminated) {
+    } else if (!verdict.reached) {
       std::snprintf(buf, sizeof buf, "target not reached in %.0f s (final distance %.0f mm)", setup.timeout,
                     t.final_distance);
       fail(buf);
-    } else if (t.target_error > Bounds::pushing_error_max) {
+    } else if (!verdict.within_error) {
       std::snprintf(buf, sizeof buf, "target error %.1f mm > %.0f mm", t.target_error, Bounds::pushing_error_max);
       fail(buf);
     }
-    if (!t.contact_kept) fail("pusher lost contact");
-    if (setup.dual_arm && !t.follower_contact_kept) {
+    if (!verdict.contact_kept) fail("pusher lost contact");
+    if (!verdict.follower_contact_kept) {
       std::snprintf(buf, sizeof buf, "follower out of contact for %.0f%% of the push",
                     100.0 * (1.0 - t.follower_contact_fraction));
       fail(buf);
     }
-    if (setup.dual_arm && t.max_tilt > Bounds::upright_tilt_max) {
+    if (!verdict.upright) {
       std::snprintf(buf, sizeof buf, "object tilted %.1f deg > %.0f deg", t.max_tilt, Bounds::upright_tilt_max);
       fail(buf);
     }
-    if (setup.dual_arm && t.min_opposition < Bounds::opposition_min) {
+    if (!verdict.opposed) {
       std::snprintf(buf, sizeof buf, "opposition lost: the contact normals %.0f deg apart (< %.0f deg)",
                     t.min_opposition, Bounds::opposition_min);
       fail(buf);

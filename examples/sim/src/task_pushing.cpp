@@ -117,6 +117,31 @@ PushingResult runGroups(const std::vector<Group>& groups, bool dual, bool centra
 }
 
 bool always(const ObjectSpec&) { return true; }
+bool never(const ObjectSpec&) { return false; }
+
+// The runners' groups, the one place each is set up (the runners and pushingCases()).
+std::vector<Group> singleArmGroups() {
+  return {{SupportSpec::foam(), shortObjects(), false, "pushing_single_foam"},
+          {SupportSpec::mdf(), shortObjects(), false, "pushing_single_MDF"}};
+}
+
+std::vector<Group> dualArmGroups(bool centralised) {
+  const std::string suffix = centralised ? "_centralised" : "";
+  return {{SupportSpec::foam(), shortObjects(), false, "pushing_dual_short_foam" + suffix},
+          {SupportSpec::mdf(), shortObjects(), false, "pushing_dual_short_MDF" + suffix},
+          {SupportSpec::mdf(), tallAndEverydayObjects(), true, "pushing_dual_tall_MDF" + suffix}};
+}
+
+// The paper's decentralised follower on round objects is reported, as the criteria declare
+// (docs/simulation.md, "Task set-ups", (d)): run, not judged.
+std::function<bool(const ObjectSpec&)> dualArmJudged(bool centralised) {
+  if (centralised) return always;
+  return [](const ObjectSpec& o) { return !isRound(o); };
+}
+
+std::vector<Group> tallSingleArmGroups() {
+  return {{SupportSpec::foam(), tallAndEverydayObjects(), false, "pushing_single_tall_foam"}};
+}
 
 }  // namespace
 
@@ -129,28 +154,39 @@ std::vector<ObjectSpec> tallAndEverydayObjects() {
 }
 
 PushingResult runSingleArmPushing(const TaskOptions& opt, int trials) {
-  return runGroups({{SupportSpec::foam(), shortObjects(), false, "pushing_single_foam"},
-                    {SupportSpec::mdf(), shortObjects(), false, "pushing_single_MDF"}},
-                   false, false, always, opt, trials);
+  return runGroups(singleArmGroups(), false, false, always, opt, trials);
 }
 
 PushingResult runDualArmPushing(const TaskOptions& opt, int trials, bool centralised) {
-  const std::string suffix = centralised ? "_centralised" : "";
-  const std::vector<Group> groups = {
-      {SupportSpec::foam(), shortObjects(), false, "pushing_dual_short_foam" + suffix},
-      {SupportSpec::mdf(), shortObjects(), false, "pushing_dual_short_MDF" + suffix},
-      {SupportSpec::mdf(), tallAndEverydayObjects(), true, "pushing_dual_tall_MDF" + suffix}};
-  // The paper's decentralised follower on round objects is reported, as the criteria declare
-  // (docs/simulation.md, "Task set-ups", (d)): run, not judged.
-  return runGroups(groups, true, centralised,
-                   centralised ? std::function<bool(const ObjectSpec&)>(always)
-                               : [](const ObjectSpec& o) { return !isRound(o); },
-                   opt, trials);
+  return runGroups(dualArmGroups(centralised), true, centralised, dualArmJudged(centralised), opt, trials);
 }
 
 PushingResult runTallSingleArmPushing(const TaskOptions& opt, int trials) {
-  return runGroups({{SupportSpec::foam(), tallAndEverydayObjects(), false, "pushing_single_tall_foam"}}, false, false,
-                   [](const ObjectSpec&) { return false; }, opt, trials);
+  return runGroups(tallSingleArmGroups(), false, false, never, opt, trials);
+}
+
+std::vector<NamedPushingCase> pushingCases() {
+  std::vector<NamedPushingCase> cases;
+  auto add = [&](const std::vector<Group>& groups, bool dual, bool centralised,
+                 const std::function<bool(const ObjectSpec&)>& judged) {
+    for (const Group& g : groups)
+      for (const ObjectSpec& o : g.objects) {
+        NamedPushingCase c;
+        c.name = g.stem + "_" + o.name;
+        c.setup.object = o;
+        c.setup.surface = g.surface;
+        c.setup.dual_arm = dual;
+        c.setup.centralised = centralised;
+        c.setup.tall = g.tall;
+        c.judged = judged(o);
+        cases.push_back(c);
+      }
+  };
+  add(singleArmGroups(), false, false, always);
+  add(dualArmGroups(false), true, false, dualArmJudged(false));
+  add(dualArmGroups(true), true, true, dualArmJudged(true));
+  add(tallSingleArmGroups(), false, false, never);
+  return cases;
 }
 
 }  // namespace lieservo::sim

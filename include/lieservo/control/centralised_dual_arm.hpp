@@ -27,6 +27,7 @@
 // on any non-ok Status nothing changes), reset. Translation units are the caller's (the
 // presets: mm), angles in radians.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <cmath>
 
@@ -162,3 +163,5 @@ typename CentralisedDualArmPushing<SE3<Scalar>, Filter>::Options centralisedDual
 }
 
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

@@ -15,6 +15,7 @@
 // the pushing sequence is over. On any non-ok Status nothing changes (filters, controllers,
 // outputs): the step is refused.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <cmath>
 
@@ -198,3 +199,5 @@ typename DualArmPushing<SE3<Scalar>, Filter>::Options dualArmPushingPreset(bool 
 }
 
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

@@ -24,6 +24,7 @@
 // Real-time contract: step() is noexcept, never allocates, and leaves the state and its
 // output untouched unless it returns Status::ok.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <cmath>
 #include <limits>
@@ -335,3 +336,5 @@ class SisoPid : public Configurable<SisoPid<Scalar>> {
 };
 
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

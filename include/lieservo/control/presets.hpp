@@ -24,6 +24,7 @@
 // With PaperGainConvention::per_step = false the paper's Ki, Kd and clips are taken to be
 // per second already, and only the unit conversions apply.  See docs/control.md.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <cmath>
 #include <limits>
@@ -280,3 +281,5 @@ typename TactileServoController<SE3<Scalar>>::Options stabiliserPreset(bool tall
 }
 
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

@@ -31,6 +31,7 @@
 //
 // Translation units are the caller's (the paper and the presets: mm); angles in radians.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <type_traits>
 
@@ -258,3 +259,5 @@ class PushingController : public Configurable<PushingController<G>> {
 };
 
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

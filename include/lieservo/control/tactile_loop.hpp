@@ -19,6 +19,7 @@
 // following, PushingController<SE3<Scalar>> for pushing); DualArmPushing and CentralisedDualArmPushing
 // run the same policy on each of their arms (filterForControl below).
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <cmath>
 
@@ -180,3 +181,5 @@ class TactileLoop : public Configurable<TactileLoop<Controller, Filter>> {
 };
 
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

@@ -19,6 +19,7 @@
 // Generic over the group G (SE3, SE2, SO3, SO2): anything with G::DoF, Tangent, Jacobian,
 // operator*, inverse(), log(), Ad(), allFinite() and identity().
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <cmath>
 
@@ -156,3 +157,5 @@ class TactileServoController : public Configurable<TactileServoController<G>> {
 };
 
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

@@ -1,5 +1,6 @@
 // lieservo/detail/finite.hpp — a fast "all entries finite?" test for fixed-size Eigen objects.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <Eigen/Core>
 
@@ -22,3 +23,5 @@ LIESERVO_ALWAYS_INLINE bool allFinite(const Eigen::MatrixBase<D0>& m0, const Eig
 
 }  // namespace detail
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

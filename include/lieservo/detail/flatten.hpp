@@ -13,22 +13,17 @@
 // before the first lieservo include, or with -DLIESERVO_FORCE_INLINE=0|1. By default it is 1 in
 // optimised builds and 0 where forcing buys nothing and costs the includer's compile time:
 //   - without optimisation (-O0: no __OPTIMIZE__), a debug build;
-//   - under AddressSanitizer or ThreadSanitizer (GCC's __SANITIZE_ADDRESS__ / __SANITIZE_THREAD__,
-//     clang's __has_feature), where GCC 12 compiles the README's loop with the attributes in
-//     558 s and 5.0 GiB, without them in about 100 s (docs/performance.md).
+//   - under AddressSanitizer or ThreadSanitizer (detail/sanitizers.hpp), where GCC 12 compiled the
+//     README's loop with the attributes in 558 s and 5.0 GiB, without them in about 100 s; the
+//     rest of that cost is variable tracking, which options_push.hpp's switch takes away.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <Eigen/Core>
 
+#include <lieservo/detail/sanitizers.hpp>
+
 #ifndef LIESERVO_FORCE_INLINE
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
-#define LIESERVO_DETAIL_SANITIZED 1
-#endif
-#endif
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define LIESERVO_DETAIL_SANITIZED 1
-#endif
 #if !defined(__OPTIMIZE__) || defined(LIESERVO_DETAIL_SANITIZED)
 #define LIESERVO_FORCE_INLINE 0
 #else
@@ -56,3 +51,5 @@
 #else
 #define LIESERVO_ALWAYS_INLINE inline
 #endif
+
+#include <lieservo/detail/options_pop.hpp>

@@ -16,6 +16,7 @@
 // the observation failed the χ² gate and the state was PREDICTED ONLY (filtered = belief).
 // Diagnostics::last_status is updated on every call.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <cmath>
 #include <cstdint>
@@ -295,3 +296,5 @@ class DiscriminativeBayesFilter : public Configurable<DiscriminativeBayesFilter<
 };
 
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

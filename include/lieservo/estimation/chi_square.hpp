@@ -6,6 +6,7 @@
 // for dof ≤ 600, 3e-12 at 6000 and 3e-11 at 60 000 (its prefactor's exponent, of the order of
 // dof, loses those digits).
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -145,3 +146,5 @@ inline double chiSquareQuantile(double p, double dof) noexcept {
 }
 
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

@@ -11,6 +11,7 @@
 // when the Status is ok. The value-returning operations (transform, inverse, compose) are
 // unchecked fast paths for inputs the caller has already validated.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <type_traits>
 #include <utility>
@@ -259,3 +260,5 @@ Status sample(const ConcentratedGaussian<G>& x, URBG& rng, G& out) {
 }
 
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

@@ -34,6 +34,7 @@
 // explicit inverse is SPD by its own certificate (detail::spdInverseCertified: always in
 // double), which makes the check redundant.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -596,3 +597,5 @@ Status fuse(const ConcentratedGaussian<G>& first, const ConcentratedGaussian<G>&
 }
 
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

@@ -12,6 +12,7 @@
 // logAndInverse returns ξ = ln(X)^∨ and writes J(ξ)⁻¹ (sharing the trigonometric work where
 // the policy can). All are noexcept and allocation-free (fixed-size Eigen only).
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <Eigen/Core>
 
@@ -93,3 +94,5 @@ using PaperJacobian = SeriesJacobian<2>;
 using DefaultJacobian = PaperJacobian;
 
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

@@ -2,6 +2,7 @@
 // and left Jacobians, written once: the right Jacobians, the first-order BCH formulas, the
 // geodesic and the Bernoulli series of J⁻¹.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <lieservo/groups/detail/generic.hpp>
 
@@ -49,3 +50,5 @@ class LieGroupBase {
 };
 
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

@@ -27,6 +27,7 @@
 //   rminus   σ = ln(Y⁻¹ X)^∨  ∂σ/∂X = J_l(σ)⁻¹ Ad(Y⁻¹),  ∂σ/∂Y = −J_l(σ)⁻¹ Ad(Y⁻¹)
 // (tests/groups/test_perturbation.cpp checks each against central differences.)
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <type_traits>
 #include <utility>
@@ -156,3 +157,5 @@ Status validateElement(const G& X) noexcept {
 }
 
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

@@ -1,6 +1,7 @@
 // lieservo/groups/se2.hpp — SE(2), planar rigid transformations [[R, t], [0ᵀ, 1]], stored as
 // an SO2 and a translation. Tangent ξ = [ρx, ρy, θ] (translation first, as SE(3)).
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <cmath>
 
@@ -225,3 +226,5 @@ using SE2d = SE2<double>;  ///< SE(2) in double
 using SE2f = SE2<float>;   ///< SE(2) in float
 
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

@@ -5,6 +5,7 @@
 // left perturbation X = exp(ε^) X̄, Ad(X) = [[C, r^C], [0, C]] (eq. 30, eqn:se3_adjoint),
 // ad(ξ) = [[φ^, ρ^], [0, φ^]] (eq. 31, eqn:se3_algebra_adjoint), J = left Jacobian (eq. 33, eqn:left_jacobian_def).
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <cmath>
 
@@ -383,3 +384,5 @@ using SE3d = SE3<double>;  ///< SE(3) in double
 using SE3f = SE3<float>;   ///< SE(3) in float
 
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

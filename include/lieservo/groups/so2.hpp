@@ -2,6 +2,7 @@
 //
 // Tangent: θ (a 1-vector, radians). The group is abelian: Ad = 1, ad = 0, J = 1.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <cmath>
 
@@ -172,3 +173,5 @@ using SO2d = SO2<double>;  ///< SO(2) in double
 using SO2f = SO2<float>;   ///< SO(2) in float
 
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

@@ -3,6 +3,7 @@
 // Conventions (docs/conventions.md): tangent φ ∈ R³ (rotation vector, radians), left
 // perturbation C = exp(δφ^) C̄, Ad(C) = C, ad(φ) = φ^, J = left Jacobian.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <cmath>
 
@@ -383,3 +384,5 @@ using SO3d = SO3<double>;  ///< SO(3) in double
 using SO3f = SO3<float>;   ///< SO(3) in float
 
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

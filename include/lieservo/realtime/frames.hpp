@@ -28,6 +28,7 @@
 //
 // noexcept; no allocation.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <lieservo/groups/se3.hpp>
 #include <lieservo/groups/so3.hpp>
@@ -117,3 +118,5 @@ inline SE3<double> sensorPose(const SE3<double>& T_oe, const SensorMount& mount,
 }
 
 }  // namespace lieservo::realtime
+
+#include <lieservo/detail/options_pop.hpp>

@@ -21,6 +21,7 @@
 // must serialise their writes themselves (e.g. a mutex on the non-real-time side).
 // write() and read() are wait-free, noexcept and allocation-free.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <array>
 #include <atomic>
@@ -105,3 +106,5 @@ class LatestValueChannel {
 };
 
 }  // namespace lieservo::realtime
+
+#include <lieservo/detail/options_pop.hpp>

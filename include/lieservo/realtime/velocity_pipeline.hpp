@@ -12,6 +12,7 @@
 // A robot adapter (examples/franka) calls step() once per callback of the robot library; a fake robot in
 // tests/realtime drives it at 1 kHz from a second thread.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <lieservo/configurable.hpp>
 #include <lieservo/realtime/frames.hpp>
@@ -156,3 +157,5 @@ class CartesianVelocityPipeline : public Configurable<CartesianVelocityPipeline>
 };
 
 }  // namespace lieservo::realtime
+
+#include <lieservo/detail/options_pop.hpp>

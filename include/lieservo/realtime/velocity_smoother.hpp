@@ -38,6 +38,7 @@
 //
 // Real-time contract: noexcept, no allocation, Status on bad input with state unchanged.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <lieservo/configurable.hpp>
 #include <lieservo/status.hpp>
@@ -357,3 +358,5 @@ class VelocitySmoother : public Configurable<VelocitySmoother<Scalar>> {
 };
 
 }  // namespace lieservo::realtime
+
+#include <lieservo/detail/options_pop.hpp>

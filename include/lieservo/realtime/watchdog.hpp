@@ -26,6 +26,7 @@
 // Real-time contract: step() is noexcept, allocation-free, returns Status and leaves
 // the state unchanged on bad input.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <lieservo/configurable.hpp>
 #include <lieservo/status.hpp>
@@ -179,3 +180,5 @@ class CommandWatchdog : public Configurable<CommandWatchdog> {
 };
 
 }  // namespace lieservo::realtime
+
+#include <lieservo/detail/options_pop.hpp>

@@ -8,6 +8,7 @@
 // rounding of std::log and std::cos. Used by simulations, tests, benchmarks and tutorials;
 // nothing here is on the real-time path.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <lieservo/units.hpp>
 
@@ -104,3 +105,5 @@ typename Derived::PlainObject normalVector(URBG& rng, const Eigen::MatrixBase<De
 }
 
 }  // namespace lieservo::sampling
+
+#include <lieservo/detail/options_pop.hpp>

@@ -255,6 +255,30 @@ PushingResult runDualArmPushing(const TaskOptions& opt, int trials = 5, bool cen
 /// The tall prisms and everyday objects pushed by one arm on the compliant foam: reported (how
 /// many topple), not judged.
 PushingResult runTallSingleArmPushing(const TaskOptions& opt, int trials = 5);
+/// A pushing case as the runners above run it: `name` is its log's stem, `<group>_<object>`
+/// ("pushing_single_foam_blue_square"), and `judged` whether its misses decide the result.
+struct NamedPushingCase {
+  std::string name;
+  PushingSetup setup;
+  bool judged = true;
+};
+/// Every case of runSingleArmPushing, runDualArmPushing (the paper's follower, then the
+/// centralised one) and runTallSingleArmPushing, in that order (the studies, examples/studies).
+std::vector<NamedPushingCase> pushingCases();
+
+/// One trial against the pushing criteria (docs/simulation.md, "Success criteria"), a field
+/// per criterion; the dual-arm ones hold for one arm. runPushingCase's verdicts come from it.
+struct PushVerdict {
+  bool reached = true;                ///< terminated within the timeout, neither toppled nor past the target
+  bool within_error = true;           ///< reached, with target_error ≤ Bounds::pushing_error_max
+  bool contact_kept = true;           ///< the pusher in contact at every control step
+  bool follower_contact_kept = true;  ///< dual arm: the follower too
+  bool upright = true;                ///< dual arm: max_tilt ≤ Bounds::upright_tilt_max
+  bool opposed = true;                ///< dual arm: min_opposition ≥ Bounds::opposition_min
+  bool passed() const { return reached && within_error && contact_kept && follower_contact_kept && upright && opposed; }
+};
+PushVerdict judgeTrial(const PushingSetup& setup, const PushTrial& trial);
+
 /// Whether an object is round (circle: the glass bottle, the coffee tin, the circles).
 bool isRound(const ObjectSpec& object);
 

@@ -2,6 +2,7 @@
 // estimators: covariance checks, Cholesky factors, group-element validation.
 // Everything here is noexcept and allocation-free (fixed-size Eigen, no dynamic storage).
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <cmath>
 #include <limits>
@@ -267,3 +268,5 @@ Status repairSpd(Mat& S, Mat* chol = nullptr) noexcept {
 
 }  // namespace detail
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

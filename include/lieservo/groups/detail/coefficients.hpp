@@ -10,6 +10,7 @@
 //     error of each coefficient).
 // The trigonometric work (one sin/cos of θ/2, one sqrt) is shared through AngleTerms.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -441,3 +442,5 @@ inline Scalar coeffF(const AngleTerms<Scalar>& t) {
 
 }  // namespace detail
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

@@ -1,5 +1,6 @@
 // lieservo/groups/detail/generic.hpp — operations written once for every group G.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <cmath>
 #include <cstdint>
@@ -83,3 +84,5 @@ inline Eigen::Vector4d uniformQuaternion(Rng& rng) {
 
 }  // namespace detail
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

@@ -2,6 +2,7 @@
 // unit quaternion, Shepperd's matrix→quaternion conversion, the rotation logarithm (from a
 // matrix or a quaternion) and the Rodrigues formulas.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <cmath>
 #include <type_traits>
@@ -329,3 +330,5 @@ LIESERVO_ALWAYS_INLINE Eigen::Matrix<Scalar, 3, 1> rotationVectorFromMatrix(cons
 
 }  // namespace detail
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>

@@ -10,6 +10,7 @@
 // The number of terms K of each coefficient is chosen (see docs/math.md) so that x_cut lies
 // beyond the region where the closed form loses accuracy through cancellation.
 #pragma once
+#include <lieservo/detail/options_push.hpp>
 
 #include <array>
 #include <cmath>
@@ -184,3 +185,5 @@ struct BernoulliTable {
 
 }  // namespace detail
 }  // namespace lieservo
+
+#include <lieservo/detail/options_pop.hpp>
