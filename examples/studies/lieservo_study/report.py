@@ -102,7 +102,7 @@ def _figure_parameter(rows, p, path):
     ok = [r for r in rows if r['passed']]
     miss = [r for r in rows if not r['passed']]
     b.scatter([r[p] for r in ok], [r['target_error'] for r in ok], s=5, c='0.6', label=f'passed ({len(ok)})')
-    b.scatter([r[p] for r in miss], [r['target_error'] for r in miss], s=14, c='tab:red', marker='x',
+    b.scatter([r[p] for r in miss], [r['target_error'] for r in miss], s=14, c='#d62728', marker='x',
               label=f'missed ({len(miss)})')
     b.axhline(10.0, ls='--', c='k', lw=0.8)
     b.set_xlabel(PLOTTED[p])
@@ -131,7 +131,7 @@ def _figure_placements(rows, spec, path):
                                                   ls='--', ec='k', lw=0.8))
         ax.scatter([r['start_offset'] for r in ok], [r['start_yaw_deg'] for r in ok], s=4, c='0.7',
                    label=f'passed ({len(ok)})')
-        ax.scatter([r['start_offset'] for r in miss], [r['start_yaw_deg'] for r in miss], s=22, c='tab:red',
+        ax.scatter([r['start_offset'] for r in miss], [r['start_yaw_deg'] for r in miss], s=22, c='#d62728',
                    marker='x', label=f'missed ({len(miss)})')
         ax.set_title(g)
         ax.set_xlabel('start offset (mm)')
