@@ -123,7 +123,7 @@ def main(argv=None) -> int:
     out = args.out or os.path.splitext(results)[0]
     command = 'study.py ' + ' '.join(shlex.quote(a) for a in (argv if argv is not None else sys.argv[1:]))
     try:
-        page = report.write(spec, rf.rows, out, command)
+        page = report.write(spec, rf.rows, out, command, cases)
     except ValueError as e:
         print(f'study.py: {e}', file=sys.stderr)
         return USAGE

@@ -63,42 +63,56 @@ struct Group {
   std::string stem;
 };
 
-// `judged(object)`: whether the object's case decides the result (else it is reported).
-PushingResult runGroups(const std::vector<Group>& groups, bool dual, bool centralised,
-                        const std::function<bool(const ObjectSpec&)>& judged, const TaskOptions& opt, int trials) {
+using Judged = std::function<bool(const ObjectSpec&)>;
+
+// One group's cases, in the order of its objects: the one place a set-up is built from a group
+// (the runners below and pushingCases()). `judged(object)`: whether the object's case decides
+// the result (else it is reported).
+std::vector<NamedPushingCase> casesOf(const Group& g, bool dual, bool centralised, const Judged& judged) {
+  std::vector<NamedPushingCase> cases;
+  for (const ObjectSpec& o : g.objects) {
+    NamedPushingCase c;
+    c.name = g.stem + "_" + o.name;
+    c.setup.object = o;
+    c.setup.surface = g.surface;
+    c.setup.dual_arm = dual;
+    c.setup.centralised = centralised;
+    c.setup.tall = g.tall;
+    c.judged = judged(o);
+    cases.push_back(c);
+  }
+  return cases;
+}
+
+PushingResult runGroups(const std::vector<Group>& groups, bool dual, bool centralised, const Judged& judged,
+                        const TaskOptions& opt, int trials) {
   if (trials < 1) throw SceneError("pushing: trials must be >= 1");
   // Every trial of every case in one pool, so no core waits for the last trial of a case.
-  std::vector<PushingSetup> setups;
+  std::vector<NamedPushingCase> cases;
   std::vector<std::size_t> group_of;
   for (std::size_t g = 0; g < groups.size(); ++g)
-    for (const ObjectSpec& o : groups[g].objects) {
-      PushingSetup su;
-      su.object = o;
-      su.surface = groups[g].surface;
-      su.dual_arm = dual;
-      su.centralised = centralised;
-      su.tall = groups[g].tall;
-      setups.push_back(su);
+    for (NamedPushingCase& c : casesOf(groups[g], dual, centralised, judged)) {
+      cases.push_back(std::move(c));
       group_of.push_back(g);
     }
-  std::vector<std::vector<PushTrial>> runs(setups.size(), std::vector<PushTrial>(std::size_t(trials)));
-  parallelFor(int(setups.size()) * trials, [&](int j) {
+  std::vector<std::vector<PushTrial>> runs(cases.size(), std::vector<PushTrial>(std::size_t(trials)));
+  parallelFor(int(cases.size()) * trials, [&](int j) {
     const std::size_t c = std::size_t(j / trials), i = std::size_t(j % trials);
-    runs[c][i] = runPushTrial(setups[c], opt, trialSeed(opt, int(i)));
+    runs[c][i] = runPushTrial(cases[c].setup, opt, trialSeed(opt, int(i)));
   });
   PushingResult res;
-  for (std::size_t c = 0; c < setups.size(); ++c) {
-    res.cases.push_back(judgeCase(setups[c], std::move(runs[c]), judged(setups[c].object), opt));
+  for (std::size_t c = 0; c < cases.size(); ++c) {
+    res.cases.push_back(judgeCase(cases[c].setup, std::move(runs[c]), cases[c].judged, opt));
     if (!opt.out_dir.empty()) res.cases.back().figure_stem = groups[group_of[c]].stem;
   }
   if (!opt.out_dir.empty()) {
     makeDirectories(opt.out_dir);
     for (std::size_t g = 0; g < groups.size(); ++g) {
       std::vector<const PushingCase*> fig;
-      for (std::size_t c = 0; c < setups.size(); ++c) {
+      for (std::size_t c = 0; c < cases.size(); ++c) {
         if (group_of[c] != g) continue;
         fig.push_back(&res.cases[c]);
-        writeCase(res.cases[c], opt.out_dir, groups[g].stem + "_" + res.cases[c].setup.object.name);
+        writeCase(res.cases[c], opt.out_dir, cases[c].name);
       }
       writePushingPlot(fig, detail::join(opt.out_dir, groups[g].stem + ".svg"),
                        std::string(dual ? (centralised ? "Dual-arm (centralised follower)" : "Dual-arm") : "Single-arm") +
@@ -119,7 +133,7 @@ PushingResult runGroups(const std::vector<Group>& groups, bool dual, bool centra
 bool always(const ObjectSpec&) { return true; }
 bool never(const ObjectSpec&) { return false; }
 
-// The runners' groups, the one place each is set up (the runners and pushingCases()).
+// The runners' groups, the one place each is listed (the runners and pushingCases()).
 std::vector<Group> singleArmGroups() {
   return {{SupportSpec::foam(), shortObjects(), false, "pushing_single_foam"},
           {SupportSpec::mdf(), shortObjects(), false, "pushing_single_MDF"}};
@@ -134,7 +148,7 @@ std::vector<Group> dualArmGroups(bool centralised) {
 
 // The paper's decentralised follower on round objects is reported, as the criteria declare
 // (docs/simulation.md, "Task set-ups", (d)): run, not judged.
-std::function<bool(const ObjectSpec&)> dualArmJudged(bool centralised) {
+Judged dualArmJudged(bool centralised) {
   if (centralised) return always;
   return [](const ObjectSpec& o) { return !isRound(o); };
 }
@@ -167,20 +181,9 @@ PushingResult runTallSingleArmPushing(const TaskOptions& opt, int trials) {
 
 std::vector<NamedPushingCase> pushingCases() {
   std::vector<NamedPushingCase> cases;
-  auto add = [&](const std::vector<Group>& groups, bool dual, bool centralised,
-                 const std::function<bool(const ObjectSpec&)>& judged) {
+  auto add = [&](const std::vector<Group>& groups, bool dual, bool centralised, const Judged& judged) {
     for (const Group& g : groups)
-      for (const ObjectSpec& o : g.objects) {
-        NamedPushingCase c;
-        c.name = g.stem + "_" + o.name;
-        c.setup.object = o;
-        c.setup.surface = g.surface;
-        c.setup.dual_arm = dual;
-        c.setup.centralised = centralised;
-        c.setup.tall = g.tall;
-        c.judged = judged(o);
-        cases.push_back(c);
-      }
+      for (NamedPushingCase& c : casesOf(g, dual, centralised, judged)) cases.push_back(std::move(c));
   };
   add(singleArmGroups(), false, false, always);
   add(dualArmGroups(false), true, false, dualArmJudged(false));

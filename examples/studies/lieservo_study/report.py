@@ -32,26 +32,25 @@ def wilson(k: int, n: int, z: float = Z95) -> tuple:
     return max(0.0, centre - half), min(1.0, centre + half)
 
 
-def criteria_of(case: str) -> tuple:
-    dual = case.startswith('pushing_dual')
-    return ('passed',) + (CRITERIA if dual else SINGLE_ARM)
+def criteria_of(case: dict) -> tuple:
+    """The criteria that judge a case (an entry of lieservo.sim.cases()): the dual-arm ones hold for two arms."""
+    return ('passed',) + (CRITERIA if case['dual_arm'] else SINGLE_ARM)
 
 
-def group_of(case: str) -> str:
-    if case.startswith('pushing_dual') and '_centralised_' in case:
-        return 'centralised dual arm'
-    if case.startswith('pushing_dual'):
-        return 'dual arm'
+def group_of(case: dict) -> str:
+    """The figures' group of a case (an entry of lieservo.sim.cases()): its arms and follower."""
+    if case['dual_arm']:
+        return 'centralised dual arm' if case['centralised'] else 'dual arm'
     return 'single arm'
 
 
-def rates(rows: list) -> dict:
-    """{case: {criterion: (k, n, lo, hi)}} over `rows`."""
+def rates(rows: list, cases: dict) -> dict:
+    """{case: {criterion: (k, n, lo, hi)}} over `rows`; `cases`: {name: lieservo.sim.cases()'s entry}."""
     out = {}
     for case in dict.fromkeys(r['case'] for r in rows):
         rs = [r for r in rows if r['case'] == case]
         out[case] = {}
-        for c in criteria_of(case):
+        for c in criteria_of(cases[case]):
             k = sum(1 for r in rs if r[c])
             out[case][c] = (k, len(rs)) + wilson(k, len(rs))
     return out
@@ -70,7 +69,7 @@ def claim_folder(out: str) -> None:
         f.write('written by study.py report; a later run may overwrite what is in this folder\n')
 
 
-def _figure_parameter(rows, p, path):
+def _figure_parameter(rows, group, p, path):
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
@@ -79,8 +78,8 @@ def _figure_parameter(rows, p, path):
     lo, hi = min(xs), max(xs)
     bins = 8
     width = (hi - lo) / bins
-    for g in dict.fromkeys(group_of(r['case']) for r in rows):
-        gr = [r for r in rows if group_of(r['case']) == g]
+    for g in dict.fromkeys(group(r) for r in rows):
+        gr = [r for r in rows if group(r) == g]
         centres, rate, err_lo, err_hi = [], [], [], []
         for i in range(bins):
             left = lo + i * width
@@ -115,16 +114,16 @@ def _figure_parameter(rows, p, path):
     plt.close(fig)
 
 
-def _figure_placements(rows, spec, path):
+def _figure_placements(rows, group, spec, path):
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
-    groups = list(dict.fromkeys(group_of(r['case']) for r in rows))
+    groups = list(dict.fromkeys(group(r) for r in rows))
     fig, axes = plt.subplots(1, len(groups), figsize=(4.6 * len(groups), 4.2), squeeze=False)
     bx = spec.draw.get('start_offset', DEMO_BOX)
     by = spec.draw.get('start_yaw_deg', DEMO_BOX)
     for ax, g in zip(axes[0], groups):
-        gr = [r for r in rows if group_of(r['case']) == g]
+        gr = [r for r in rows if group(r) == g]
         ok = [r for r in gr if r['passed']]
         miss = [r for r in gr if not r['passed']]
         ax.add_patch(matplotlib.patches.Rectangle((bx[0], by[0]), bx[1] - bx[0], by[1] - by[0], fill=False,
@@ -144,18 +143,24 @@ def _figure_placements(rows, spec, path):
     plt.close(fig)
 
 
-def write(spec: Spec, rows: list, out: str, command: str) -> str:
-    """Writes out/index.html and its figures; returns the page's path."""
+def write(spec: Spec, rows: list, out: str, command: str, known_cases: list) -> str:
+    """Writes out/index.html and its figures; returns the page's path. `known_cases`:
+    lieservo.sim.cases(), which says each case's arms (the spec has checked the rows' cases)."""
     claim_folder(out)
-    table = rates(rows)
+    cases = {c['name']: c for c in known_cases}
+    table = rates(rows, cases)
+
+    def group(row):
+        return group_of(cases[row['case']])
+
     figures = []
     for p in PLOTTED:
         xs = [r[p] for r in rows]
         if xs and max(xs) > min(xs):
             name = f'against_{p}.svg'
-            _figure_parameter(rows, p, os.path.join(out, name))
+            _figure_parameter(rows, group, p, os.path.join(out, name))
             figures.append(name)
-    _figure_placements(rows, spec, os.path.join(out, 'placements.svg'))
+    _figure_placements(rows, group, spec, os.path.join(out, 'placements.svg'))
     figures.append('placements.svg')
 
     e = html.escape

@@ -39,7 +39,10 @@ def connect(scheduler: str | None, workers: int | None):
             raise ConnectError(f'--scheduler {scheduler}: cannot reach the scheduler ({type(e).__name__}: {e})') from None
     os.environ['PYTHONPATH'] = _worker_path()  # inherited by the worker processes
     n = workers or os.cpu_count() or 1
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+    # The scheduler starts its HTTP server (health and metrics routes) whatever the dashboard
+    # setting; with no address it takes port 8787, which another cluster may hold. ':0' lets the
+    # system choose a free port.
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=':0',
                            silence_logs=logging.ERROR)
     return Client(cluster), cluster
 
