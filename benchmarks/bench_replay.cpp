@@ -5,7 +5,11 @@
 // (Algorithm 2, alg:se3_bayes_filter; the sensor poses X_k^sens are chained so that the step's
 // T̄_k = (X_k^sens)⁻¹ X_{k−1}^sens is the experiment's T_k), with the paper's 5 fusion iterations
 // and with the converged rule, beside one SE(3) exp in the same run. The counter `updates` is
-// the fusion updates per correction.
+// the fusion updates per correction. In builds with Ceres (lieservo::ceres), also the
+// fixed-interval smoother over the whole sequence (lieservo_ceres/smoother.hpp, lesson 08), the
+// same observations, motions and Σφ, with the derivatives from Jets and from the closed-form
+// Jacobians: one iteration is one smooth() call (set-up and ceres::Solve, from the observations'
+// means), and `lm_iterations` counts its Levenberg–Marquardt iterations.
 //
 //   lieservo_replay_bench [Google Benchmark flags]    (exit 77 without the data set or the GDN)
 //
@@ -20,6 +24,10 @@
 
 #include <lieservo/lieservo.hpp>
 
+#ifdef LIESERVO_BENCH_SMOOTHER
+#include <lieservo_ceres/smoother.hpp>
+#endif
+
 #include "bench_common.hpp"
 #include "replay.hpp"
 #include "bench_main.hpp"
@@ -33,7 +41,8 @@ constexpr double kSigmaPsi[4] = {10.0, 1.0, 0.1, 0.01};  // the paper's Table 2 
 
 struct Sequence {
   std::vector<ConcentratedGaussian<SE3d>> observations;
-  std::vector<SE3d> sensor[4];  // X_k^sens per σψ
+  std::vector<SE3d> motions[4];  // T_k per σψ (eq. 23)
+  std::vector<SE3d> sensor[4];   // X_k^sens per σψ
 };
 
 Sequence& sequence() {
@@ -52,7 +61,7 @@ void setUp() {
   Sequence& s = sequence();
   s.observations = r.observations;
   for (int i = 0; i < 4; ++i) {
-    const std::vector<SE3d> T = rp::replayMotions(r.samples, kSigmaPsi[i], o.seed);
+    const std::vector<SE3d>& T = s.motions[i] = rp::replayMotions(r.samples, kSigmaPsi[i], o.seed);
     s.sensor[i].assign(T.size(), SE3d());
     for (std::size_t k = 1; k < T.size(); ++k) s.sensor[i][k] = s.sensor[i][k - 1] * T[k].inverse();
   }
@@ -92,6 +101,42 @@ void BM_ReplayFilterStep(benchmark::State& state) {
 BENCHMARK_TEMPLATE(BM_ReplayFilterStep, false)->DenseRange(0, 3);
 BENCHMARK_TEMPLATE(BM_ReplayFilterStep, true)->DenseRange(0, 3);
 
+#ifdef LIESERVO_BENCH_SMOOTHER
+// The whole sequence at once (docs/estimation.md, "The smoother"): min over the trajectory of the
+// whitened observation residuals (eq. 14) and motion residuals (eqs. 23–24), through lieservo's log.
+template <lieservo::ceres_adapter::SmootherOptions::Jacobians Kind>
+void BM_ReplaySmoother(benchmark::State& state) {
+  namespace sm = lieservo::ceres_adapter;
+  const Sequence& s = sequence();
+  const int level = static_cast<int>(state.range(0));
+  const SE3d::Jacobian Q = rp::replayProcessNoise(kSigmaPsi[level]);
+  sm::SmootherOptions o;
+  o.jacobians = Kind;
+  std::vector<SE3d> poses;
+  long lm_iterations = 0, solves = 0;
+  for (auto _ : state) {
+    const sm::SmootherReport r = sm::smooth(s.observations, s.motions[level], Q, poses, o);
+    if (r.status != Status::ok) {
+      state.SkipWithError(r.message.c_str());
+      return;
+    }
+    lm_iterations += r.iterations;
+    ++solves;
+    benchmark::DoNotOptimize(poses.data());
+  }
+  state.counters["lm_iterations"] = solves > 0 ? double(lm_iterations) / double(solves) : 0.0;
+  char label[32];
+  std::snprintf(label, sizeof label, "sigma_psi %g", kSigmaPsi[level]);
+  state.SetLabel(label);
+}
+BENCHMARK_TEMPLATE(BM_ReplaySmoother, lieservo::ceres_adapter::SmootherOptions::Jacobians::autodiff)
+    ->DenseRange(0, 3)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_ReplaySmoother, lieservo::ceres_adapter::SmootherOptions::Jacobians::closed_form)
+    ->DenseRange(0, 3)
+    ->Unit(benchmark::kMillisecond);
+#endif
+
 // The unit of the filter's cost, timed as lieservo_bench times it.
 void BM_exp_SE3(benchmark::State& state) {
   const auto& in = lieservo_bench::GroupInputs<SE3d>::get();
@@ -107,7 +152,7 @@ BENCHMARK(BM_exp_SE3);
 }  // namespace
 
 int main(int argc, char** argv) {
-  return lieservo::bench::runBenchmarks(argc, argv, "the filter step on the real-data replay's sequence, the paper's 5 iterations and the converged rule", [] {
+  return lieservo::bench::runBenchmarks(argc, argv, "the filter step on the real-data replay's sequence, the paper's 5 iterations and the converged rule; with Ceres, the fixed-interval smoother over it, with Jets and with the closed-form Jacobians", [] {
     try {
       setUp();
     } catch (const std::exception& e) {

@@ -280,7 +280,8 @@ void ReplayResults::markdownSmoother(std::ostream& md) const {
         "problem in Ceres (examples/adapters/ceres, `lieservo_ceres/smoother.hpp`; lesson 08). The filter uses frames "
         "0…k for pose k; the smoother uses every frame. Both are scored on their poses, ln(X̂ₖ)^∨ against the labels "
         "(the table above scores the filter's tangent-Gaussian mean). Solve times: one run of `ceres::Solve`, with Jets "
-        "and with lminus's closed-form Jacobians (not a benchmark).\n\n"
+        "and with lminus's closed-form Jacobians (not a benchmark: `lieservo_replay_bench --benchmark_filter=Smoother` "
+        "times both, docs/performance.md).\n\n"
         "| σψ | estimate |";
   for (std::size_t j = 0; j < 6; ++j) md << " " << kComp[j] << " |";
   md << " solve, Jets / closed form | LM iterations |\n|---|---|---|---|---|---|---|---|---|---|\n";

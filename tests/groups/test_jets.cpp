@@ -7,17 +7,37 @@
 // 100 for the SE groups, the last the near-π translations), for exp, log, compose, inverse,
 // act, Ad, ad and the four perturbation operators with their Jacobians:
 //   |D_jet − D_closed| ≤ 1e-12 · max(1, max|D_closed|) elementwise, all finite;
-//   value(Jet result) == the double result, bit for bit (this build uses no -march=native).
+//   value(Jet result) == the double result, bit for bit; within 2 ulp of it where the flags let
+//   the compiler contract a·b + c into one FMA (__FMA__, e.g. -march=native).
 // Where a criterion is not met today the test case says so in its name and carries Catch's
 // [!mayfail] tag: it runs and reports every failure, and does not stop the suite (the issue
-// stays open on it). Measured: SE(2)'s rminus Jacobians differ by up to 3.7e-12 relative on 5
-// of 1.6M checks, at small angles (θ ≈ 0.01-0.03 rad); there the closed form is
-// right (Jets over long double agree with it to 1e-14) and the double Jets are not: their
-// derivative of (θ/2)cot(θ/2) above its series cut-off is a difference of two terms ≈ 1/θ.
-// SE(2), SO(3) and SE(3) values differ from the double results by up to 2.8, 4
-// and 13 eps (of the result's largest entry, at least 1); not investigated further, likely the
-// double paths' SIMD kernels and Eigen's vectorised reductions, which the Jet paths do not take.
+// stays open on it). Not met: the value parts of SE(2), SO(3) and SE(3), which differ from the
+// double results by up to 2.8, 4 and 13 eps (of the result's largest entry, at least 1), in exp,
+// log, act, compose and inverse. Two roundings that are not lieservo's cause all of it:
+//   - ceres::Jet forms a quotient's value as f.a · (1/g.a), two roundings where f.a / g.a is one;
+//   - Eigen vectorises the double products and reductions (packets, summed in their order) and
+//     not the Jet ones (a scalar sum, unrolled as a tree: a0 + (a1 + a2)).
+// Built as lieservo_test_jets_scalar_order (LIESERVO_JETS_SCALAR_ORDER), this file compiles with
+// EIGEN_DONT_VECTORIZE and gives ceres::Jet<double, N> a quotient that rounds once (overloads
+// in this file only, below); there every value part is the double result bit for bit, which
+// checks that lieservo's own arithmetic takes one path whatever the scalar.
 #include <ceres/jet.h>
+
+#ifdef LIESERVO_JETS_SCALAR_ORDER
+// A Jet quotient whose value rounds once, as the double one does: more specialised than Ceres's
+// own operator/ templates, so that overload resolution picks these for ceres::Jet<double, N>.
+namespace ceres {
+template <int N>
+inline Jet<double, N> operator/(const Jet<double, N>& f, const Jet<double, N>& g) {
+  const double q = f.a / g.a;
+  return Jet<double, N>(q, (f.v - q * g.v) / g.a);
+}
+template <int N>
+inline Jet<double, N> operator/(const Jet<double, N>& f, double s) {
+  return Jet<double, N>(f.a / s, f.v / s);
+}
+}  // namespace ceres
+#endif
 
 #include <cmath>
 #include <cstdint>
@@ -102,9 +122,20 @@ void compareDerivative(const Eigen::MatrixXd& jet, const Eigen::MatrixXd& closed
     t.worst_what = what;
   }
 }
+#ifdef __FMA__
+constexpr int kValueUlps = 2;  // the compiler may contract the double and the Jet code differently
+#else
+constexpr int kValueUlps = 0;
+#endif
+// Whether a is within n ulp of b (n = 0: the same number).
+bool withinUlps(double a, double b, int n) {
+  if (a == b) return true;
+  for (int k = 0; k < n; ++k) b = std::nextafter(b, a);
+  return a == b;
+}
 void compareValue(const Eigen::VectorXd& jet, const Eigen::VectorXd& plain, const char* what, Tally& t) {
   for (int i = 0; i < jet.size(); ++i)
-    if (!(jet[i] == plain[i]) && !(jet[i] == 0 && plain[i] == 0)) {
+    if (!withinUlps(jet[i], plain[i], kValueUlps)) {
       const double scale = std::max(1.0, plain.cwiseAbs().maxCoeff());  // the result's magnitude
       t.worst_ulps = std::max(t.worst_ulps, (jet - plain).cwiseAbs().maxCoeff() / (scale * 0x1p-52));
       ++t.value_failures;
@@ -251,16 +282,11 @@ void report(const Tally& t) {
 
 }  // namespace
 
+#ifndef LIESERVO_JETS_SCALAR_ORDER
 TEMPLATE_TEST_CASE("jets: the derivative that ceres::Jet carries is the closed-form Jacobian", "[groups][jets]",
-                   lieservo::SO2<double>, lieservo::SO3<double>, lieservo::SE3<double>) {
+                   lieservo::SO2<double>, lieservo::SE2<double>, lieservo::SO3<double>, lieservo::SE3<double>) {
   const Tally& t = tallyOf<TestType>();
   report<TestType>(t);
-  CHECK(t.derivative_failures == 0);
-}
-
-TEST_CASE("jets: SE(2)'s derivatives (not met: rminus within 3.7e-12, not 1e-12)", "[groups][jets][!mayfail]") {
-  const Tally& t = tallyOf<lieservo::SE2<double>>();
-  report<lieservo::SE2<double>>(t);
   CHECK(t.derivative_failures == 0);
 }
 
@@ -270,9 +296,28 @@ TEMPLATE_TEST_CASE("jets: the value part is the double result bit for bit", "[gr
   CHECK(t.value_failures == 0);
 }
 
-TEMPLATE_TEST_CASE("jets: the value part is the double result bit for bit (not met: the last bits differ)",
+TEMPLATE_TEST_CASE("jets: the value part is the double result bit for bit (not met: Ceres's quotient and Eigen's "
+                   "vectorisation round differently)",
                    "[groups][jets][!mayfail]", lieservo::SE2<double>, lieservo::SO3<double>, lieservo::SE3<double>) {
   const Tally& t = tallyOf<TestType>();
   report<TestType>(t);
   CHECK(t.value_failures == 0);
 }
+#else
+// Measured without FMA (GCC 12 and clang 14, the presets' flags). Under GCC 12 -march=native the
+// translation of SE(2)'s inverse still differs in its last bits (not investigated): there the
+// case carries [!mayfail].
+#ifdef __FMA__
+#define LIESERVO_SCALAR_ORDER_TAGS "[groups][jets][!mayfail]"
+#else
+#define LIESERVO_SCALAR_ORDER_TAGS "[groups][jets]"
+#endif
+TEMPLATE_TEST_CASE("jets, Eigen unvectorised and a once-rounded quotient: the value part is the double result bit "
+                   "for bit",
+                   LIESERVO_SCALAR_ORDER_TAGS, lieservo::SO2<double>, lieservo::SE2<double>, lieservo::SO3<double>,
+                   lieservo::SE3<double>) {
+  const Tally& t = tallyOf<TestType>();
+  report<TestType>(t);
+  CHECK(t.value_failures == 0);
+}
+#endif

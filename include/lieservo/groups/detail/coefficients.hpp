@@ -61,10 +61,6 @@ inline constexpr SeriesTable<8> kSeriesF{{1.0L / 120, -1.0L / 2520, 1.0L / 12096
                                           -1.0L / 15205637551104000,
                                           1.0L / 5676771352412160000}};
 
-/// H(θ) = (θ/2) cot(θ/2) = θ sinθ / (2(1 − cosθ)) = Σ (−1)^n B_{2n} x^n/(2n)!.
-/// (SE(2) inverse of V; no cancellation, the series only avoids 0/0.)
-inline constexpr SeriesTable<3> kSeriesH{{1.0L, -1.0L / 12, -1.0L / 720, -1.0L / 30240}};
-
 /// atan(y)/y = Σ (−1)^k y^{2k}/(2k+1), in x = y² (SO(3) log through the quaternion; no
 /// cancellation, the series only avoids 0/0 at the identity).
 inline constexpr SeriesTable<3> kSeriesAtan{{1.0L, -1.0L / 3, 1.0L / 5, -1.0L / 7}};
@@ -91,7 +87,7 @@ struct Cutoffs {
   static constexpr Real D = cutoffOf<Scalar>(kSeriesD);
   static constexpr Real E = cutoffOf<Scalar>(kSeriesE);
   static constexpr Real F = cutoffOf<Scalar>(kSeriesF);
-  static constexpr Real H = cutoffOf<Scalar>(kSeriesH);
+  static constexpr Real H = D;  ///< H = 1 − x D(x) takes D's series (coeffH)
   static constexpr Real Atan = cutoffOf<Scalar>(kSeriesAtan);
   static constexpr Real HalfAsin = cutoffOf<Scalar>(kSeriesHalfAsin);
   /// Trigonometric terms are needed as soon as any coefficient leaves its series.
@@ -406,13 +402,24 @@ inline Scalar coeffC(const AngleTerms<Scalar>& t) {
   return (t.theta - t.sin) / (t.theta2 * t.theta);
 }
 
-/// (θ/2)cot(θ/2) = θ sinθ/(2(1 − cosθ)); evaluated as (θ/2)·cos(θ/2)/sin(θ/2) through the
-/// shared terms: θ sinθ / (2 · 2 sin²(θ/2)).
+/// H(θ) = (θ/2)cot(θ/2) = θ sinθ/(2(1 − cosθ)), in the closed form through the shared terms:
+/// θ sinθ / (2 · 2 sin²(θ/2)).
+template <class Scalar>
+inline Scalar coeffHClosed(const AngleTerms<Scalar>& t) {
+  using Real = RealOf<Scalar>;
+  return t.theta * t.sin / (Scalar(Real(2)) * t.one_minus_cos);
+}
+
+/// H(θ) = (θ/2)cot(θ/2) = 1 − x D(x) (SE(2)'s V⁻¹). The closed form's value has no
+/// cancellation, but its derivative (what an autodiff scalar carries) is a difference of two
+/// terms ≈ 1/θ that cancel to −θ/6 (relative error ≈ 6 eps/θ²); so below D's cutoff (θ ≈ 0.5
+/// in double) H is formed from D's series, whose value and derivative are both accurate.
 template <class Scalar>
 inline Scalar coeffH(const AngleTerms<Scalar>& t) {
   using Real = RealOf<Scalar>;
-  if (!t.closed || t.theta2 < Scalar(Cutoffs<Scalar>::H)) return hornerEval(kSeriesH, t.theta2);
-  return t.theta * t.sin / (Scalar(Real(2)) * t.one_minus_cos);
+  if (!t.closed || t.theta2 < Scalar(Cutoffs<Scalar>::D))
+    return Scalar(Real(1)) - t.theta2 * hornerEval(kSeriesD, t.theta2);
+  return coeffHClosed(t);
 }
 
 /// (1/θ²)(1 − θ sinθ/(2(1 − cosθ))) — SO(3) inverse-Jacobian coefficient.
@@ -420,7 +427,7 @@ template <class Scalar>
 inline Scalar coeffD(const AngleTerms<Scalar>& t) {
   using Real = RealOf<Scalar>;
   if (!t.closed || t.theta2 < Scalar(Cutoffs<Scalar>::D)) return hornerEval(kSeriesD, t.theta2);
-  return (Scalar(Real(1)) - coeffH(t)) / t.theta2;
+  return (Scalar(Real(1)) - coeffHClosed(t)) / t.theta2;
 }
 
 /// (θ² + 2cosθ − 2)/(2θ⁴) — SE(3) Q coefficient of (φ^φ^ρ^ + ρ^φ^φ^ − 3φ^ρ^φ^).
