@@ -3,14 +3,15 @@
 invocation (`-c`, one translation unit), per unit, compiler and flag set.
 
     /usr/bin/python3 benchmarks/compile_time.py                  # the full table (docs/performance.md)
-    /usr/bin/python3 benchmarks/compile_time.py --units readme   # the smallest unit alone (CI)
+    /usr/bin/python3 benchmarks/compile_time.py --units readme --flags sanitizers   # CI: the slowest build alone
 
 Units (each a consumer's translation unit, compiled against include/):
     readme       tests/build/consumer/main.cpp: the README's loop (filter + servo)
     controllers  benchmarks/compile_time/controllers.cpp: the pushing and dual-arm controllers
     everything   benchmarks/compile_time/everything.cpp: all of lieservo.hpp for SE(3) double and float
 
-Flag sets: -O0 -g, -O2, -O3 -DNDEBUG, -O1 -g -fsanitize=address,undefined (each with -std=c++17).
+Flag sets: -O0 -g, -O2, -O3 -DNDEBUG, -O1 -g -fsanitize=address,undefined (each with -std=c++17);
+--flags sanitizers keeps the last alone, the slowest.
 Peak memory is the compiler process tree's maximum resident set (wait4's ru_maxrss). A compile
 that runs past --timeout is killed and reported as such. Compiles run one at a time, so that
 each has the machine to itself. Exit status: 0, or 2 for bad usage or a compile that failed.
@@ -75,6 +76,8 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument('--units', default=','.join(UNITS), help='comma-separated, from: ' + ', '.join(UNITS))
     ap.add_argument('--compilers', default=','.join(COMPILERS), help='comma-separated compiler commands')
+    ap.add_argument('--flags', choices=['all', 'sanitizers'], default='all',
+                    help='every flag set (default), or the sanitizer build alone')
     ap.add_argument('--timeout', type=float, default=900, help='seconds before a compile is killed (default 900)')
     args = ap.parse_args(argv)
     units = [u for u in args.units.split(',') if u]
@@ -100,6 +103,8 @@ def main(argv=None) -> int:
             source = os.path.join(ROOT, UNITS[unit])
             for c in compilers:
                 for name, flags in FLAGS.items():
+                    if args.flags == 'sanitizers' and '-fsanitize' not in name:
+                        continue
                     s, mib, status = compile_once(c, flags, source, os.path.join(tmp, 'unit.o'), args.timeout)
                     shown = status if status != 'timeout' else f'killed after {args.timeout:g} s'
                     print(f'{unit:<12} {c:<9} {name:<38} {s:9.1f} {mib:11.0f}  {shown}', flush=True)

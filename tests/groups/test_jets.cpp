@@ -9,9 +9,9 @@
 //   |D_jet − D_closed| ≤ 1e-12 · max(1, max|D_closed|) elementwise, all finite;
 //   value(Jet result) == the double result, bit for bit; within 2 ulp of it where the flags let
 //   the compiler contract a·b + c into one FMA (__FMA__, e.g. -march=native).
-// Where a criterion is not met today the test case says so in its name and carries Catch's
-// [!mayfail] tag: it runs and reports every failure, and does not stop the suite (the issue
-// stays open on it). Not met: the value parts of SE(2), SO(3) and SE(3), which differ from the
+// Where a criterion is not met today the test case says so in its name and checks it with
+// CHECK_NOFAIL and a WARN: it runs and reports every failure, and does not stop the suite (the
+// issue stays open on it). Not met: the value parts of SE(2), SO(3) and SE(3), which differ from the
 // double results by up to 2.8, 4 and 13 eps (of the result's largest entry, at least 1), in exp,
 // log, act, compose and inverse. Two roundings that are not lieservo's cause all of it:
 //   - ceres::Jet forms a quotient's value as f.a · (1/g.a), two roundings where f.a / g.a is one;
@@ -283,25 +283,28 @@ void report(const Tally& t) {
 }  // namespace
 
 #ifndef LIESERVO_JETS_SCALAR_ORDER
-TEMPLATE_TEST_CASE("jets: the derivative that ceres::Jet carries is the closed-form Jacobian", "[groups][jets]",
-                   lieservo::SO2<double>, lieservo::SE2<double>, lieservo::SO3<double>, lieservo::SE3<double>) {
+// One test case per group, so that each group's samples are checked once (CTest runs every case
+// in a process of its own).
+TEMPLATE_TEST_CASE("jets: the derivative that ceres::Jet carries is the closed-form Jacobian, and the value part "
+                   "is the double result bit for bit",
+                   "[groups][jets]", lieservo::SO2<double>) {
   const Tally& t = tallyOf<TestType>();
   report<TestType>(t);
   CHECK(t.derivative_failures == 0);
-}
-
-TEMPLATE_TEST_CASE("jets: the value part is the double result bit for bit", "[groups][jets]", lieservo::SO2<double>) {
-  const Tally& t = tallyOf<TestType>();
-  report<TestType>(t);
   CHECK(t.value_failures == 0);
 }
 
-TEMPLATE_TEST_CASE("jets: the value part is the double result bit for bit (not met: Ceres's quotient and Eigen's "
-                   "vectorisation round differently)",
-                   "[groups][jets][!mayfail]", lieservo::SE2<double>, lieservo::SO3<double>, lieservo::SE3<double>) {
+// The value criterion, not met here, is checked with CHECK_NOFAIL and a warning: reported, not failing.
+TEMPLATE_TEST_CASE("jets: the derivative that ceres::Jet carries is the closed-form Jacobian (the value part bit "
+                   "for bit: not met, Ceres's quotient and Eigen's vectorisation round differently)",
+                   "[groups][jets]", lieservo::SE2<double>, lieservo::SO3<double>, lieservo::SE3<double>) {
   const Tally& t = tallyOf<TestType>();
   report<TestType>(t);
-  CHECK(t.value_failures == 0);
+  CHECK(t.derivative_failures == 0);
+  CHECK_NOFAIL(t.value_failures == 0);
+  if (t.value_failures != 0)
+    WARN("not met: " << t.value_failures << " value parts differ from the double results, by up to "
+                     << t.worst_ulps << " eps; " << t.summary());
 }
 #else
 // Measured without FMA (GCC 12 and clang 14, the presets' flags). Under GCC 12 -march=native the
