@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <functional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -73,11 +74,23 @@ inline bool writtenByBenchmark(const std::string& path) {
          first.find(" Running ") != std::string::npos;
 }
 
+/// A reporter that reports nothing and declines the context, so that Google Benchmark starts no
+/// run: RunSpecifiedBenchmarks with it only counts the benchmarks that the filter matches.
+class MatchCounter : public benchmark::BenchmarkReporter {
+ public:
+  MatchCounter() { SetOutputStream(&silent_); }  // --benchmark_list_tests lists once, in the real call
+  bool ReportContext(const Context&) override { return false; }
+  void ReportRuns(const std::vector<Run>&) override {}
+
+ private:
+  std::ostringstream silent_;
+};
+
 /// Parses Google Benchmark's flags (`what`: what the program measures, the first line of its
-/// --help), then calls `set_up` (when given: the program's own set-up,
-/// -1 to go on or its exit status, e.g. kSkipped without the data), then runs the registered
-/// benchmarks: 0, or 2 for a malformed or unknown flag, a --benchmark_out that is not Google
-/// Benchmark's file, or a filter that matches no benchmark (named on stderr).
+/// --help), checks that the filter matches a benchmark, then calls `set_up` (when given: the
+/// program's own set-up, -1 to go on or its exit status, e.g. kSkipped without the data), then
+/// runs the registered benchmarks: 0, or 2 for a malformed or unknown flag, a --benchmark_out
+/// that is not Google Benchmark's file, or a filter that matches no benchmark (named on stderr).
 inline int runBenchmarks(int argc, char** argv, const char* what, const std::function<int()>& set_up = {}) {
   for (int i = 1; i < argc; ++i)
     if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0)
@@ -110,23 +123,30 @@ inline int runBenchmarks(int argc, char** argv, const char* what, const std::fun
   int n = argc;
   benchmark::Initialize(&n, ptrs.data());
   if (benchmark::ReportUnrecognizedArguments(n, ptrs.data())) return lieservo::cli::kUsageOrSetup;
+  // The filter is checked before the set-up, which can take seconds (the replay's GDN pass).
+  const auto noMatch = [&] {
+    if (!tmp.empty()) std::remove(tmp.c_str());  // nothing ran: the old file stays
+    std::fprintf(stderr, "%s: --benchmark_filter matches no benchmark (or is not a valid regular expression)\n", argv[0]);
+    return lieservo::cli::kUsageOrSetup;
+  };
+  MatchCounter counter;
+  if (benchmark::RunSpecifiedBenchmarks(&counter) == 0) return noMatch();
   if (set_up) {
     const int status = lieservo::cli::runProgram(argv[0], [&] { return set_up(); });
-    if (status >= 0) return status;
+    if (status >= 0) {
+      if (!tmp.empty()) std::remove(tmp.c_str());
+      return status;
+    }
   }
   const std::size_t ran = benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
-  if (ran == 0 && !tmp.empty()) std::remove(tmp.c_str());  // nothing ran: the old file stays
-  if (ran > 0 && !tmp.empty()) {
+  if (ran == 0) return noMatch();
+  if (!tmp.empty()) {
     std::string why;
     if (!lieservo::cli::commitTemporary(tmp, out, why)) {
       std::fprintf(stderr, "%s: --benchmark_out %s\n", argv[0], why.c_str());
       return lieservo::cli::kUsageOrSetup;
     }
-  }
-  if (ran == 0) {
-    std::fprintf(stderr, "%s: --benchmark_filter matches no benchmark (or is not a valid regular expression)\n", argv[0]);
-    return lieservo::cli::kUsageOrSetup;
   }
   return lieservo::cli::kOk;
 }

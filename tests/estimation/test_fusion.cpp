@@ -9,6 +9,9 @@
 #include <limits>
 #include <type_traits>
 
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+
 #include <lieservo/estimation/bayes_filter.hpp>
 #include <lieservo/sampling/random.hpp>
 
@@ -204,6 +207,72 @@ TEST_CASE("the checked Cholesky factorisation (LDLᵀ form on the equilibrated m
   S(3, 1) = std::numeric_limits<double>::quiet_NaN();
   CHECK(detail::choleskyChecked(S, L) == Status::non_finite_input);
   CHECK(L == M6::Constant(-1.0));
+}
+
+// One size and scalar of the semi-definite check below; counts into `judged`, `disagree`,
+// `psd_refused` and `negative_accepted`.
+template <class Scalar, int N>
+void checkPsdAgainstLlt(lieservo::sampling::Rng& rng, long n, long& judged, long& disagree, long& psd_refused,
+                        long& negative_accepted) {
+  using M = Eigen::Matrix<Scalar, N, N>;
+  using Md = Eigen::Matrix<double, N, N>;
+  const double eps = double(std::numeric_limits<Scalar>::epsilon());
+  const double t = double(detail::symmetryTolerance<Scalar>());
+  for (long s = 0; s < n; ++s) {
+    const Md Q = randomOrthogonal<N>(rng);
+    Eigen::Matrix<double, N, 1> ev;
+    for (int i = 1; i < N; ++i) ev[i] = uniform(rng, 1e-3, 1.0);
+    const double u = uniform(rng, 0.0, 1.0);
+    ev[0] = u < 0.125 ? 0.0 : u < 0.5 ? uniform(rng, 0.0, 1e-3) : -uniform(rng, 0.0, 4.0) * t * ev.maxCoeff();
+    Eigen::Matrix<double, N, 1> scale;
+    for (int i = 0; i < N; ++i) scale[i] = std::pow(10.0, uniform(rng, -3.0, 3.0));
+    Md Sd = scale.asDiagonal() * (Q * ev.asDiagonal() * Q.transpose()) * scale.asDiagonal();
+    Sd = (0.5 * (Sd + Sd.transpose())).eval();
+    const M S = Sd.template cast<Scalar>();
+    const Status got = detail::checkPsd(S);
+    // The reference, checkPsd as it was with Eigen's LLT: a negative diagonal entry refused,
+    // then LLT on the same shifted matrix (S is finite and symmetric here, its diagonal not 0).
+    const Scalar dmax = S.diagonal().maxCoeff();
+    M shifted = Scalar(0.5) * S + Scalar(0.5) * S.transpose();
+    shifted.diagonal().array() += detail::symmetryTolerance<Scalar>() * dmax;
+    const bool reference_ok =
+        (S.diagonal().array() >= Scalar(0)).all() && Eigen::LLT<M>(shifted).info() == Eigen::Success;
+    const Md Sc = S.template cast<double>();
+    const double lambda_S = Eigen::SelfAdjointEigenSolver<Md>(Sc, Eigen::EigenvaluesOnly).eigenvalues()[0];
+    const double lambda_shifted = lambda_S + t * double(dmax);
+    if (ev[0] >= 0.0 && got != Status::ok) ++psd_refused;
+    if (lambda_S <= -2.0 * t * double(dmax) && got == Status::ok) ++negative_accepted;
+    if (std::abs(lambda_shifted) <= 16.0 * N * eps * double(dmax)) continue;  // within rounding: either answer
+    ++judged;
+    if ((got == Status::ok) != reference_ok) ++disagree;
+  }
+}
+
+TEST_CASE("the semi-definite check (checkPsd): the shifted matrix's Cholesky pivots, as Eigen's LLT tests them",
+          "[estimation][linalg]") {
+  // Criterion (set before the run): over 10⁵ seeded symmetric matrices per size (3, 6) and type
+  // (float, double), Q diag(λ) Qᵀ in a random basis with n − 1 eigenvalues over 1e-3..1 and the
+  // smallest 0 (1/8), over 0..1e-3 (3/8) or below 0 down to −4 sqrt(eps) max λ (1/2), then a
+  // diagonal scaling over 1e±3: checkPsd gives the verdict of its form with Eigen's LLT (a
+  // negative diagonal entry refused, then LLT on the same shifted matrix
+  // ½(S + Sᵀ) + sqrt(eps) max S_ii I) on every matrix whose shifted smallest eigenvalue is
+  // farther than 16 n eps max S_ii from 0 (closer, rounding decides either way); it accepts
+  // every matrix built positive semi-definite and refuses every one with an eigenvalue at or
+  // below −2 sqrt(eps) max S_ii.
+  lieservo::sampling::Rng rng(20261203);
+  const long n = test::scaledCount(100000, 10000);
+  long judged = 0, disagree = 0, psd_refused = 0, negative_accepted = 0;
+  checkPsdAgainstLlt<double, 3>(rng, n, judged, disagree, psd_refused, negative_accepted);
+  checkPsdAgainstLlt<double, 6>(rng, n, judged, disagree, psd_refused, negative_accepted);
+  checkPsdAgainstLlt<float, 3>(rng, n, judged, disagree, psd_refused, negative_accepted);
+  checkPsdAgainstLlt<float, 6>(rng, n, judged, disagree, psd_refused, negative_accepted);
+  std::printf("[fusion] checkPsd over 4 x %ld matrices: %ld judged against Eigen's LLT, %ld disagree; "
+              "%ld semi-definite refused, %ld negative accepted\n",
+              n, judged, disagree, psd_refused, negative_accepted);
+  CHECK(judged >= 3 * n);
+  CHECK(disagree == 0);
+  CHECK(psd_refused == 0);
+  CHECK(negative_accepted == 0);
 }
 
 // ---------------------------------------------------------------------------------------------

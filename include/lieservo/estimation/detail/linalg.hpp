@@ -7,7 +7,6 @@
 #include <cmath>
 #include <limits>
 
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 
 #include <lieservo/detail/finite.hpp>
@@ -123,6 +122,29 @@ Status checkSpd(const Mat& S) noexcept {
   return choleskyChecked(S, L);
 }
 
+/// Whether the symmetric A (its lower triangle is read) is positive-definite: every pivot of
+/// its unpivoted Cholesky factorisation A = L Lᵀ is > 0, the test of Eigen's LLT. Written out:
+/// Eigen's LLT compiles its blocked path (triangular solves, rank updates) even for a fixed
+/// 6 × 6, about 2 s of each includer's translation unit per matrix type.
+template <class Mat>
+bool choleskyPivotsPositive(const Mat& A) noexcept {
+  using Scalar = typename Mat::Scalar;
+  constexpr int n = Mat::RowsAtCompileTime;
+  Scalar L[n][n];
+  for (int j = 0; j < n; ++j) {
+    Scalar d = A(j, j);
+    for (int k = 0; k < j; ++k) d -= L[j][k] * L[j][k];
+    if (!(d > Scalar(0))) return false;  // NaN too
+    const Scalar inv_ljj = Scalar(1) / std::sqrt(d);
+    for (int i = j + 1; i < n; ++i) {
+      Scalar v = A(i, j);
+      for (int k = 0; k < j; ++k) v -= L[i][k] * L[j][k];
+      L[i][j] = v * inv_ljj;
+    }
+  }
+  return true;
+}
+
 /// Checks a matrix that may be positive semi-definite (e.g. process noise, which may be 0):
 /// finite, symmetric (absolute+relative tolerance) and no eigenvalue below −sqrt(eps)·max|S_ii|.
 template <class Mat>
@@ -142,11 +164,11 @@ Status checkPsd(const Mat& S) noexcept {
         return Status::not_spd;
     }
   if (dmax == Scalar(0)) return S.isZero(Scalar(0)) ? Status::ok : Status::not_spd;
-  // Shift by a small multiple of the largest diagonal entry and test definiteness.
-  Mat shifted = Scalar(0.5) * (S + S.transpose());
+  // Shift by a small multiple of the largest diagonal entry and test definiteness. Halves
+  // first: exactly 0.5 (S + Sᵀ), without its overflow for entries above half the largest float.
+  Mat shifted = Scalar(0.5) * S + Scalar(0.5) * S.transpose();
   shifted.diagonal().array() += tol * dmax;
-  Eigen::LLT<Mat> llt(shifted);
-  return llt.info() == Eigen::Success ? Status::ok : Status::not_spd;
+  return choleskyPivotsPositive(shifted) ? Status::ok : Status::not_spd;
 }
 
 /// Forward substitution, in place: B ← L⁻¹ B for a lower-triangular fixed-size L (only the
