@@ -125,7 +125,8 @@ Status checkSpd(const Mat& S) noexcept {
 /// Whether the symmetric A (its lower triangle is read) is positive-definite: every pivot of
 /// its unpivoted Cholesky factorisation A = L Lᵀ is > 0, the test of Eigen's LLT. Written out:
 /// Eigen's LLT compiles its blocked path (triangular solves, rank updates) even for a fixed
-/// 6 × 6, about 2 s of each includer's translation unit per matrix type.
+/// 6 × 6, about 2 s of each includer's translation unit per matrix type. Not choleskyChecked:
+/// its pivot floor (64 eps on the equilibrated matrix) is a stricter test than pivots > 0.
 template <class Mat>
 bool choleskyPivotsPositive(const Mat& A) noexcept {
   using Scalar = typename Mat::Scalar;
