@@ -512,7 +512,7 @@ LIESERVO_FLATTEN_GCC Status fuseFactored(const G* means, const typename G::Jacob
       // = −(RᵀR)⁻¹ Rᵀc = −R⁻¹ c
       mu = -info.c();
       upperSolveInPlace(R, mu);
-      if (measure) step_sigmas = (R.template triangularView<Eigen::Upper>() * mu).norm();  // ‖R μ‖ = √(μᵀ RᵀR μ)
+      if (measure) step_sigmas = upperTimes(R, mu).norm();  // ‖R μ‖ = √(μᵀ RᵀR μ)
     }
     if (!allFinite(mu)) return Status::numerical_failure;
     X = G::exp(mu) * X;  // eq. 54 (eqn:se3_normalised_prod_update)

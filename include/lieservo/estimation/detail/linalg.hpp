@@ -227,6 +227,21 @@ void upperSolveInPlace(const MatR& R, MatB& B) noexcept {
   }
 }
 
+/// R x for an upper-triangular fixed-size R (only the upper triangle is read). Written out:
+/// Eigen's triangularView product runs through its run-time-sized triangular matrix-vector
+/// kernel, compiled for every includer even at fixed size (3-7 % of the README loop's build).
+template <class MatR, class Vec>
+Vec upperTimes(const MatR& R, const Vec& x) noexcept {
+  constexpr int n = MatR::RowsAtCompileTime;
+  Vec y;
+  for (int i = 0; i < n; ++i) {
+    typename MatR::Scalar sum = R(i, i) * x(i);
+    for (int k = i + 1; k < n; ++k) sum += R(i, k) * x(k);
+    y(i) = sum;
+  }
+  return y;
+}
+
 /// R⁻¹ of an upper-triangular fixed-size R (only the upper triangle is read): upper triangular.
 template <class Mat>
 Mat upperTriangularInverse(const Mat& R) noexcept {
