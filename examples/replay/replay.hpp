@@ -199,9 +199,11 @@ FilterRun replayFilter(const std::vector<Sample>& samples, const std::vector<Con
 Vec6 poseMae(const std::vector<SE3d>& X, const std::vector<Sample>& samples);
 
 /// The smoother beside the filter on one sequence (replayFilter's run and replayMotions' motions,
-/// Σφ = replayProcessNoise): defined in builds with Ceres (replay_smoother.cpp).
+/// Σφ = replayProcessNoise): defined in builds with Ceres (replay_smoother.cpp). The smoothed poses
+/// come from the solve with Jets; with `time_closed_form` the closed-form Jacobians' solve is also
+/// made, for its time (seconds_closed_form stays 0 without it).
 SmootherRow replaySmoother(const std::vector<Sample>& samples, const std::vector<ConcentratedGaussian<SE3d>>& obs,
-                           double sigma_psi, std::uint64_t seed);
+                           double sigma_psi, std::uint64_t seed, bool time_closed_form = true);
 
 /// mm, rad -> mm, deg (components 4-6).
 Vec6 toReportUnits(const Vec6& xi);

@@ -8,7 +8,7 @@
 namespace lieservo::replay {
 
 SmootherRow replaySmoother(const std::vector<Sample>& samples, const std::vector<ConcentratedGaussian<SE3d>>& obs,
-                           double sigma_psi, std::uint64_t seed) {
+                           double sigma_psi, std::uint64_t seed, bool time_closed_form) {
   namespace sm = lieservo::ceres_adapter;
   SmootherRow row;
   row.sigma_psi = sigma_psi;
@@ -18,8 +18,11 @@ SmootherRow replaySmoother(const std::vector<Sample>& samples, const std::vector
   std::vector<SE3d> with_jets, closed_form;
   sm::SmootherOptions o;
   const sm::SmootherReport r_ad = sm::smooth(obs, motions, Q, with_jets, o);
-  o.jacobians = sm::SmootherOptions::Jacobians::closed_form;
-  const sm::SmootherReport r_cf = sm::smooth(obs, motions, Q, closed_form, o);
+  sm::SmootherReport r_cf;
+  if (time_closed_form && r_ad.status == Status::ok) {
+    o.jacobians = sm::SmootherOptions::Jacobians::closed_form;
+    r_cf = sm::smooth(obs, motions, Q, closed_form, o);
+  }
   if (r_ad.status != Status::ok || r_cf.status != Status::ok) {
     row.refused = r_ad.status != Status::ok ? r_ad.message : r_cf.message;
     return row;

@@ -16,24 +16,26 @@
 // examples/replay/replay_smoother.cpp makes the two solves and scores them (read it beside this
 // file); the replay's report (docs/results.md) prints the same comparison.
 // This program
-//   1. draws three 1000-frame sequences from the filter's own model, in the Table 2 set-up (random
-//      contacts, the motions T_k = exp(ψ_k^) X_k X_{k−1}⁻¹ with ψ_k ~ N(0, σψ² 1)), and counts the
-//      (sequence, σψ, component) triples where the smoother's MAE is above the filter's. The
-//      smoother is the better estimate in expectation, not on every sequence: at σψ = 10 both are
-//      within 0.03 of the raw network, and on one of these sequences the smoother is above the
-//      filter there (z, by under 1e-4 mm) and at σψ = 0.01 (β, 0.066° against 0.059°). The count
-//      is printed as the check "at or below on every component", which these sequences do not
-//      meet (docs/estimation.md, "The smoother"). With --sequences N (N > 3) it draws N and
-//      prints, per σψ and component, on how many the smoother is above and the mean ratio of
-//      the two MAEs: the Monte Carlo behind "better in expectation";
+//   1. draws 400 1000-frame sequences from the filter's own model, in the Table 2 set-up (random
+//      contacts, the motions T_k = exp(ψ_k^) X_k X_{k−1}⁻¹ with ψ_k ~ N(0, σψ² 1)), prints the
+//      first three as Table 2, and then, per σψ and component, the MAE of each estimate over all
+//      the frames and on how many sequences the smoother's MAE is above the filter's. The smoother
+//      is the better estimate in expectation, not on every sequence: at σψ = 10 the motion adds
+//      almost nothing to the observations (a gain of about 0.1 %), and the smoother is above the
+//      filter on about a third of the sequences there. The check, which can fail, is on all the
+//      frames: over the 400 sequences the smoother's MAE is at or below the filter's on every
+//      (σψ, component) (exit 1 otherwise). Its sample size comes from a pilot on other seeds
+//      (docs/estimation.md, "The smoother"); with --sequences N below 400 it is not made;
 //   2. runs the same comparison on the real TacTip validation sequence that Table 2 uses (the
 //      replay's GDN observations, examples/replay), when the data is there, and prints it in
 //      Table 2's layout. On the real sequence the numbers are reported, whatever they are.
 // Both estimates are scored the same way: the MAE of ln(X̂_k)^∨ against the label, mm and deg.
-// Exit status 1 when a solve is refused or the real sequence cannot be read, 2 for bad usage.
+// Exit status 1 when a solve is refused, the check is not met or the real sequence cannot be read,
+// 2 for bad usage.
 //
 // Build and run:  cmake --build <build> --target lieservo_tutorial_08_smoother &&
 //                 <build>/examples/tutorials/lieservo_tutorial_08_smoother [--no-real] [--sequences N]
+//                 [--first-seed S]
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -60,6 +62,10 @@ namespace {
 
 const std::vector<double> kSigmaPsi{10.0, 1.0, 0.1, 0.01};  // Table 2's columns, mm and deg
 constexpr std::uint64_t kSeed = 1;                          // the replay's ψ_k seed
+// Part 1's check: its sample size and seeds, fixed before it was first run (docs/estimation.md,
+// "The smoother", gives the pilot on seeds 11-70 that set the size).
+constexpr int kCheckSequences = 400;
+constexpr long kCheckFirstSeed = 1001;
 
 /// Table 2's layout: the raw GDN (σψ = ∞), then the filter and the smoother at each σψ.
 void printTable(const Vec6& gdn, const std::vector<replay::SmootherRow>& rows) {
@@ -107,61 +113,71 @@ void drawSequence(std::uint64_t seed, std::size_t n, std::vector<Sample>& sample
   }
 }
 
-/// Part 1: the model's own sequences (seeds 11, 12, …), each table printed for the first three.
-/// With more than three, the count per (σψ, component) and the mean ratio of the two MAEs: the
-/// Monte Carlo behind "better in expectation". Returns the number of refused solves.
-int partSynthetic(int sequences) {
-  std::printf("1. %d 1000-frame sequences drawn from the filter's own model (the Table 2 set-up)\n", sequences);
+/// Part 1: the model's own sequences (seeds first_seed, first_seed + 1, …), each table printed for
+/// the first three; then, per σψ and component, the MAE of each estimate over all the sequences'
+/// frames and on how many sequences the smoother's MAE is above the filter's. The check, made when
+/// there are at least kCheckSequences sequences: over them, the smoother's MAE is at or below the
+/// filter's on every (σψ, component). Returns the number of refused solves, plus 1 when the check
+/// is made and not met.
+int partSynthetic(int sequences, std::uint64_t first_seed) {
+  std::printf("1. %d 1000-frame sequences drawn from the filter's own model (the Table 2 set-up, seeds %llu-%llu)\n",
+              sequences, static_cast<unsigned long long>(first_seed),
+              static_cast<unsigned long long>(first_seed + static_cast<std::uint64_t>(sequences) - 1));
   const std::size_t levels = kSigmaPsi.size();
-  std::vector<Vec6> above(levels, Vec6::Zero()), ratio(levels, Vec6::Zero());
-  std::vector<int> solved_at(levels, 0);
-  int worse = 0, refused = 0, solved = 0;
+  std::vector<Vec6> above(levels, Vec6::Zero()), filter_sum(levels, Vec6::Zero()), smoother_sum(levels, Vec6::Zero());
+  int refused = 0;
   for (int i = 0; i < sequences; ++i) {
-    const std::uint64_t seed = 11u + static_cast<std::uint64_t>(i);
+    const std::uint64_t seed = first_seed + static_cast<std::uint64_t>(i);
     std::vector<Sample> samples;
     Observations obs;
     drawSequence(seed, 1000, samples, obs);
-    std::vector<SE3d> raw;
-    for (const auto& z : obs) raw.push_back(z.mean);
-    std::vector<replay::SmootherRow> rows;
-    for (double s : kSigmaPsi) rows.push_back(replay::replaySmoother(samples, obs, s, kSeed));
     const bool shown = i < 3;
+    std::vector<replay::SmootherRow> rows;  // the closed-form solve's time only for the tables shown
+    for (double s : kSigmaPsi) rows.push_back(replay::replaySmoother(samples, obs, s, kSeed, shown));
     if (shown) {
+      std::vector<SE3d> raw;
+      for (const auto& z : obs) raw.push_back(z.mean);
       std::printf(" seed %llu:\n", static_cast<unsigned long long>(seed));
       printTable(replay::poseMae(raw, samples), rows);
     }
     for (std::size_t l = 0; l < levels; ++l) {
       const replay::SmootherRow& r = rows[l];
-      refused += !r.refused.empty();
-      if (!r.refused.empty()) continue;
-      ++solved;
-      ++solved_at[l];
-      for (int j = 0; j < 6; ++j) {
-        ratio[l][j] += r.smoothed[j] / r.filter[j];
-        if (r.smoothed[j] > r.filter[j]) {
-          ++worse;
-          above[l][j] += 1;
-          if (shown)
-            std::printf("  above: sigma_psi %g, component %d: smoother %.4f, filter %.4f\n", r.sigma_psi, j + 1,
-                        r.smoothed[j], r.filter[j]);
-        }
+      if (!r.refused.empty()) {
+        std::printf("  seed %llu, sigma_psi %g: the smoother refused: %s\n", static_cast<unsigned long long>(seed),
+                    r.sigma_psi, r.refused.c_str());
+        ++refused;
+        continue;
       }
+      // Every sequence has 1000 frames: the MAE over all of them is the mean of the sequences' MAEs.
+      filter_sum[l] += r.filter;
+      smoother_sum[l] += r.smoothed;
+      above[l] += (r.smoothed.array() > r.filter.array()).cast<double>().matrix();
     }
   }
-  if (sequences > 3) {
-    std::printf(" over the %d sequences: on how many the smoother's MAE is above the filter's | the mean of "
-                "smoother MAE / filter MAE\n  %-9s %13s %13s %13s %13s %13s %13s\n",
-                sequences, "sigma_psi", "x", "y", "z", "a", "b", "g");
-    for (std::size_t l = 0; l < levels; ++l) {
-      std::printf("  %-9g", kSigmaPsi[l]);
-      for (int j = 0; j < 6; ++j) std::printf("   %3.0f | %5.3f", above[l][j], ratio[l][j] / std::max(1, solved_at[l]));
-      std::printf("\n");
-    }
+  std::printf(" over all %d sequences: the MAE of each estimate, smoother / filter, and on how many sequences the "
+              "smoother's MAE is above the filter's\n  %-9s %-9s %7s %7s %7s %7s %7s %7s\n",
+              sequences, "sigma_psi", "", "x mm", "y mm", "z mm", "a deg", "b deg", "g deg");
+  bool met = refused == 0;
+  for (std::size_t l = 0; l < levels; ++l) {
+    const Vec6 f = filter_sum[l] / sequences, m = smoother_sum[l] / sequences;
+    met = met && (m.array() <= f.array()).all();
+    std::printf("  %-9g %-9s", kSigmaPsi[l], "filter");
+    for (int j = 0; j < 6; ++j) std::printf(" %7.4f", f[j]);
+    std::printf("\n  %-9s %-9s", "", "smoother");
+    for (int j = 0; j < 6; ++j) std::printf(" %7.4f", m[j]);
+    std::printf("\n  %-9s %-9s", "", "ratio");
+    for (int j = 0; j < 6; ++j) std::printf(" %7.4f", m[j] / f[j]);
+    std::printf("\n  %-9s %-9s", "", "above on");
+    for (int j = 0; j < 6; ++j) std::printf(" %7.0f", above[l][j]);
+    std::printf("\n");
   }
-  std::printf(" the smoother's MAE is above the filter's on %d of %d (sequence, σψ, component) triples: "
-              "the check \"at or below on every component\" is %s\n\n",
-              worse, 6 * solved, worse == 0 ? "met" : "NOT met");
-  return refused;
+  if (sequences < kCheckSequences) {
+    std::printf(" the check needs %d sequences or more (--sequences): not made\n\n", kCheckSequences);
+    return refused;
+  }
+  std::printf(" the check \"over the sequences, the smoother's MAE is at or below the filter's on every component\" "
+              "is %s\n\n", met ? "met" : "NOT met");
+  return refused + (met ? 0 : 1);
 }
 
 /// Part 2: the real validation sequence, as the replay reads it (file order, the network's σ).
@@ -195,25 +211,33 @@ int partReal() {
 
 int main(int argc, char** argv) {
   bool real = true;
-  int sequences = 3;
+  int sequences = kCheckSequences;
+  long first_seed = kCheckFirstSeed;
   for (int i = 1; i < argc; ++i) {
+    const bool count = std::strcmp(argv[i], "--sequences") == 0, seed = std::strcmp(argv[i], "--first-seed") == 0;
     if (std::strcmp(argv[i], "--no-real") == 0) {
       real = false;
-    } else if (std::strcmp(argv[i], "--sequences") == 0) {
+    } else if (count || seed) {
       const char* v = i + 1 < argc ? argv[++i] : "";
       char* end = nullptr;
       const long n = std::strtol(v, &end, 10);
-      if (*v == '\0' || *end != '\0' || n < 1 || n > 10000) {
-        std::fprintf(stderr, "%s: --sequences needs a whole number from 1 to 10000, got '%s'\n", argv[0], v);
+      const long lo = count ? 1 : 0, hi = count ? 10000 : 1000000000;
+      if (*v == '\0' || *end != '\0' || n < lo || n > hi) {
+        std::fprintf(stderr, "%s: %s needs a whole number from %ld to %ld, got '%s'\n", argv[0], argv[i - 1], lo, hi,
+                     v);
         return 2;
       }
-      sequences = static_cast<int>(n);
+      if (count)
+        sequences = static_cast<int>(n);
+      else
+        first_seed = n;
     } else {
-      std::fprintf(stderr, "usage: %s [--no-real] [--sequences N]; unknown option '%s'\n", argv[0], argv[i]);
+      std::fprintf(stderr, "usage: %s [--no-real] [--sequences N] [--first-seed S]; unknown option '%s'\n", argv[0],
+                   argv[i]);
       return 2;
     }
   }
-  int failed = partSynthetic(sequences);
+  int failed = partSynthetic(sequences, static_cast<std::uint64_t>(first_seed));
   if (real) {
     try {
       failed += partReal();
@@ -222,6 +246,7 @@ int main(int argc, char** argv) {
       ++failed;
     }
   }
-  std::printf("%s\n", failed == 0 ? "OK: every smoother solve converged" : "FAILED (see above)");
+  std::printf("%s\n", failed == 0 ? "OK: every smoother solve converged, and the check was met or not made"
+                                   : "FAILED (see above)");
   return failed == 0 ? 0 : 1;
 }

@@ -9,6 +9,7 @@
 
 #include <lieservo/groups/detail/coefficients.hpp>
 #include <lieservo/groups/detail/generic.hpp>
+#include <lieservo/groups/detail/ordered.hpp>
 #include <lieservo/groups/lie_group_base.hpp>
 #include <lieservo/groups/so2.hpp>
 
@@ -57,14 +58,14 @@ class SE2 : public LieGroupBase<SE2<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
   static SE2 exp(const Tangent& xi) {
     const Scalar th = xi(2);
     const detail::AngleTerms<Scalar> t(th * th);
-    return SE2(rotationWith(th, t), V(th, t) * xi.template head<2>());
+    return SE2(rotationWith(th, t), detail::times(V(th, t), Vector2(xi.template head<2>())));
   }
   /// log: θ = atan2 ∈ (−π, π], ρ = V(θ)⁻¹ t with V⁻¹ = [[H, θ/2], [−θ/2, H]], H = (θ/2)cot(θ/2).
   Tangent log() const {
     const Scalar th = R_.angle();
     const detail::AngleTerms<Scalar> t(th * th);
     Tangent xi;
-    xi.template head<2>() = Vinv(th, t) * t_;
+    xi.template head<2>() = detail::times(Vinv(th, t), t_);
     xi(2) = th;
     return xi;
   }
@@ -117,14 +118,14 @@ class SE2 : public LieGroupBase<SE2<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
     const Scalar th = xi(2);
     const detail::AngleTerms<Scalar> t(th * th);
     J = leftJacobianWith(xi, t);
-    return SE2(rotationWith(th, t), J.template topLeftCorner<2, 2>() * xi.template head<2>());
+    return SE2(rotationWith(th, t), detail::times(Matrix2(J.template topLeftCorner<2, 2>()), Vector2(xi.template head<2>())));
   }
   /// log(), and J(ξ)⁻¹ of the result into Jinv, sharing the trigonometric terms.
   Tangent logAndLeftJacobianInverse(Jacobian& Jinv) const {
     const Scalar th = R_.angle();
     const detail::AngleTerms<Scalar> t(th * th);
     Tangent xi;
-    xi.template head<2>() = Vinv(th, t) * t_;
+    xi.template head<2>() = detail::times(Vinv(th, t), t_);
     xi(2) = th;
     Jinv = leftJacobianInverseWith(xi, t);
     return xi;

@@ -55,8 +55,7 @@ class SE3 : public LieGroupBase<SE3<Scalar_>, Eigen::Matrix<Scalar_, 6, 1>, Eige
   SE3 operator*(const SE3& o) const {
     SE3 x;
     detail::multiply3(C_.C_, o.C_.C_, x.C_.C_);
-    x.r_ = r_;
-    x.r_.noalias() += C_.rotationMatrix() * o.r_;
+    x.r_ = r_ + detail::times(C_.rotationMatrix(), o.r_);
     return x;
   }
   SE3& operator*=(const SE3& o) { return *this = *this * o; }  ///< *this = *this * o
@@ -65,7 +64,7 @@ class SE3 : public LieGroupBase<SE3<Scalar_>, Eigen::Matrix<Scalar_, 6, 1>, Eige
   SE3 inverse() const {
     SE3 x;
     x.C_.C_ = C_.C_.transpose();
-    x.r_.noalias() = -(C_.rotationMatrix().transpose() * r_);
+    x.r_ = -detail::transposeTimes(C_.rotationMatrix(), r_);
     return x;
   }
 
@@ -73,15 +72,15 @@ class SE3 : public LieGroupBase<SE3<Scalar_>, Eigen::Matrix<Scalar_, 6, 1>, Eige
   /// exp(ξ^) = [[exp(φ^), J(φ) ρ], [0ᵀ, 1]] (eq. 28, eqn:se3_hat_operator, Barfoot's closed form).
   LIESERVO_FLATTEN static SE3 exp(const Tangent& xi) {
     const Vector3 rho = xi.template head<3>(), phi = xi.template tail<3>();
-    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
-    return SE3(SO3Type::expWith(phi, t), SO3Type::leftJacobianWith(phi, t) * rho);
+    const detail::AngleTerms<Scalar> t(detail::squaredNorm(phi));
+    return SE3(SO3Type::expWith(phi, t), detail::times(SO3Type::leftJacobianWith(phi, t), rho));
   }
   /// log(X)^∨ = [J(φ)⁻¹ r; φ] with φ = log(C), θ ∈ [0, π] (sign rule at π as SO3::log).
   LIESERVO_FLATTEN Tangent log() const {
     detail::AngleTerms<Scalar> t(Scalar(0));
     const Vector3 phi = C_.logWithTerms(t);  // log and J⁻¹ share the trigonometric work
     Tangent xi;
-    xi.template head<3>() = SO3Type::leftJacobianInverseWith(phi, t) * r_;
+    xi.template head<3>() = detail::times(SO3Type::leftJacobianInverseWith(phi, t), r_);
     xi.template tail<3>() = phi;
     return xi;
   }
@@ -153,20 +152,20 @@ class SE3 : public LieGroupBase<SE3<Scalar_>, Eigen::Matrix<Scalar_, 6, 1>, Eige
   /// Q = ½ρ^ + C(θ)(φ^ρ^ + ρ^φ^ + φ^ρ^φ^) + E(θ)(φ^φ^ρ^ + ρ^φ^φ^ − 3φ^ρ^φ^)
   ///     + F(θ)(φ^ρ^φ^φ^ + φ^φ^ρ^φ^), with C, E, F from detail/coefficients.hpp.
   static Matrix3 Q(const Vector3& rho, const Vector3& phi) {
-    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    const detail::AngleTerms<Scalar> t(detail::squaredNorm(phi));
     return QWith(rho, phi, t);
   }
   /// Left Jacobian, closed form of eq. 33 (eqn:left_jacobian_def): [[J(φ), Q(ρ, φ)], [0, J(φ)]].
   static Jacobian leftJacobian(const Tangent& xi) {
     const Vector3 rho = xi.template head<3>(), phi = xi.template tail<3>();
-    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    const detail::AngleTerms<Scalar> t(detail::squaredNorm(phi));
     return leftJacobianWith(rho, phi, t);
   }
   /// Inverse left Jacobian, closed form of eq. 34 (eqn:inv_jacobian_def):
   /// [[J⁻¹, −J⁻¹ Q J⁻¹], [0, J⁻¹]].
   static Jacobian leftJacobianInverse(const Tangent& xi) {
     const Vector3 rho = xi.template head<3>(), phi = xi.template tail<3>();
-    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    const detail::AngleTerms<Scalar> t(detail::squaredNorm(phi));
     return leftJacobianInverseWith(rho, phi, t);
   }
   /// Truncated series Σ_{n=0}^{N} B_n/n! (ξ⋏)^n (eq. 34, eqn:inv_jacobian_def); N = 2 is the paper's.
@@ -183,8 +182,8 @@ class SE3 : public LieGroupBase<SE3<Scalar_>, Eigen::Matrix<Scalar_, 6, 1>, Eige
       // D = 1 + b1 Φ + b2 Φ², U = b1 P + b2 (ΦP + PΦ).
       const Scalar b1 = N >= 1 ? Scalar(Real(c.b[N >= 1 ? 1 : 0])) : Scalar(0);
       const Scalar b2 = N >= 2 ? Scalar(Real(c.b[N >= 2 ? 2 : 0])) : Scalar(0);
-      const Scalar dd = Scalar(1) - b2 * phi.squaredNorm();  // D's diagonal offset
-      const Scalar ud = Scalar(-2) * b2 * phi.dot(rho);       // U's diagonal offset
+      const Scalar dd = Scalar(1) - b2 * detail::squaredNorm(phi);  // D's diagonal offset
+      const Scalar ud = Scalar(-2) * b2 * detail::dot(phi, rho);       // U's diagonal offset
       const Vector3 p1 = b1 * phi, r1 = b1 * rho, p2 = b2 * phi, r2 = b2 * rho;
       for (int j = 0; j < 3; ++j)
         for (int i = 0; i < 3; ++i) {
@@ -225,16 +224,16 @@ class SE3 : public LieGroupBase<SE3<Scalar_>, Eigen::Matrix<Scalar_, 6, 1>, Eige
   /// exp(ξ), and J(ξ) into J, sharing the trigonometric work.
   LIESERVO_FLATTEN static SE3 expAndLeftJacobian(const Tangent& xi, Jacobian& J) {
     const Vector3 rho = xi.template head<3>(), phi = xi.template tail<3>();
-    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    const detail::AngleTerms<Scalar> t(detail::squaredNorm(phi));
     J = leftJacobianWith(rho, phi, t);
-    return SE3(SO3Type::expWith(phi, t), J.template topLeftCorner<3, 3>() * rho);
+    return SE3(SO3Type::expWith(phi, t), detail::times(Matrix3(J.template topLeftCorner<3, 3>()), rho));
   }
   /// log(), and J(ξ)⁻¹ of the result into Jinv, sharing the trigonometric work.
   LIESERVO_FLATTEN Tangent logAndLeftJacobianInverse(Jacobian& Jinv) const {
     detail::AngleTerms<Scalar> t(Scalar(0));
     const Vector3 phi = C_.logWithTerms(t);  // log and J⁻¹ share the trigonometric work
     const Matrix3 Ji = SO3Type::leftJacobianInverseWith(phi, t);
-    const Vector3 rho = Ji * r_;
+    const Vector3 rho = detail::times(Ji, r_);
     Jinv.template topLeftCorner<3, 3>() = Ji;
     Jinv.template topRightCorner<3, 3>() = -(Ji * QWith(rho, phi, t) * Ji);
     Jinv.template bottomLeftCorner<3, 3>().setZero();
@@ -337,7 +336,7 @@ class SE3 : public LieGroupBase<SE3<Scalar_>, Eigen::Matrix<Scalar_, 6, 1>, Eige
   // seven 3×3 products, and the same value.
   static Matrix3 QWith(const Vector3& rho, const Vector3& phi, const detail::AngleTerms<Scalar>& t) {
     const Scalar c = detail::coeffC(t), e = detail::coeffE(t), f = detail::coeffF(t);
-    const Scalar d = phi.dot(rho), x = t.theta2;
+    const Scalar d = detail::dot(phi, rho), x = t.theta2;
     const Scalar two(Real(2));
     // symmetric part: C(ρφᵀ + φρᵀ − 2dI) − 2dF S
     Matrix3 Q = (-two * d * f) * SO3Type::skewSquared(phi);

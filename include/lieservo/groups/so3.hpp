@@ -17,6 +17,7 @@
 #include <lieservo/units.hpp>
 #include <lieservo/groups/detail/coefficients.hpp>
 #include <lieservo/groups/detail/generic.hpp>
+#include <lieservo/groups/detail/ordered.hpp>
 #include <lieservo/groups/lie_group_base.hpp>
 #include <lieservo/groups/detail/rotation.hpp>
 
@@ -55,7 +56,7 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
     return r;
   }
   SO3& operator*=(const SO3& o) { return *this = *this * o; }  ///< *this = *this * o
-  Point operator*(const Point& p) const { return C_ * p; }  ///< the rotated point C p
+  Point operator*(const Point& p) const { return detail::times(C_, p); }  ///< the rotated point C p
   /// The inverse rotation Cᵀ.
   SO3 inverse() const {
     SO3 r;
@@ -78,7 +79,7 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
   // mispredicted half the time on angles spread over the half turn (docs/math.md, "SO(3) exp
   // up to a half turn").
   static LIESERVO_ALWAYS_INLINE SO3 exp(const Tangent& phi) {
-    const Scalar x = phi.squaredNorm();
+    const Scalar x = detail::squaredNorm(phi);
     if (x < Scalar(Real(detail::halfAngleShortMaxX<Scalar>()))) {
       const auto kw = detail::lanesEval(detail::kHalfAngleShortSeries<Scalar>.a, x);
       return fromHalfAngle(phi, kw(0), kw(1));
@@ -121,18 +122,18 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
   /// Left Jacobian, closed form of eq. 33 (eqn:left_jacobian_def):
   /// J = I + ((1 − cosθ)/θ²) φ^ + ((θ − sinθ)/θ³) φ^φ^.
   static Jacobian leftJacobian(const Tangent& phi) {
-    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    const detail::AngleTerms<Scalar> t(detail::squaredNorm(phi));
     return leftJacobianWith(phi, t);
   }
   /// Inverse left Jacobian, closed form of eq. 34 (eqn:inv_jacobian_def):
   /// J⁻¹ = I − ½ φ^ + (1/θ²)(1 − θ sinθ/(2(1 − cosθ))) φ^φ^  (singular at θ = 2π).
   static Jacobian leftJacobianInverse(const Tangent& phi) {
-    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    const detail::AngleTerms<Scalar> t(detail::squaredNorm(phi));
     return leftJacobianInverseWith(phi, t);
   }
   /// exp(φ) and J(φ) sharing the trigonometric work.
   static SO3 expAndLeftJacobian(const Tangent& phi, Jacobian& J) {
-    const detail::AngleTerms<Scalar> t(phi.squaredNorm());
+    const detail::AngleTerms<Scalar> t(detail::squaredNorm(phi));
     J = leftJacobianWith(phi, t);
     return expWith(phi, t);
   }
@@ -197,12 +198,14 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
   LIESERVO_ALWAYS_INLINE void normalize() noexcept {
     using std::sqrt;
     Vector3 x = C_.col(0), y = C_.col(1);
-    const Scalar e = x.dot(y) * Scalar(Real(0.5));
+    const Scalar e = detail::dot(x, y) * Scalar(Real(0.5));
     const Vector3 x2 = x - e * y;
     const Vector3 y2 = y - e * x;
-    x = x2 / x2.norm();
-    y = y2 - x.dot(y2) * x;
-    y /= y.norm();
+    const Scalar nx = detail::norm(x2);
+    for (int i = 0; i < 3; ++i) x(i) = detail::quotient(x2(i), nx);
+    y = y2 - detail::dot(x, y2) * x;
+    const Scalar ny = detail::norm(y);
+    for (int i = 0; i < 3; ++i) y(i) = detail::quotient(y(i), ny);
     C_.col(0) = x;
     C_.col(1) = y;
     C_.col(2) = x.cross(y);
@@ -232,10 +235,10 @@ class SO3 : public LieGroupBase<SO3<Scalar_>, Eigen::Matrix<Scalar_, 3, 1>, Eige
   }
   /// From any non-zero quaternion (normalised here; unchecked for zero/non-finite).
   static SO3 fromQuaternion(const Quaternion& q) {
-    const Scalar n2 = q.squaredNorm();
     const Scalar w = q.w(), x = q.x(), y = q.y(), z = q.z();
+    const Scalar n2 = w * w + x * x + y * y + z * z;
     const Scalar two(Real(2));
-    const Scalar s = two / n2;
+    const Scalar s = detail::quotient(two, n2);
     Matrix3 C;
     C(0, 0) = Scalar(1) - s * (y * y + z * z);
     C(0, 1) = s * (x * y - w * z);

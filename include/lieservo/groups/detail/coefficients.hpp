@@ -16,6 +16,7 @@
 #include <cmath>
 #include <type_traits>
 
+#include <lieservo/groups/detail/ordered.hpp>
 #include <lieservo/groups/detail/series.hpp>
 
 namespace lieservo {
@@ -142,7 +143,7 @@ struct AngleTerms {
       t.sin = sin_theta;
       t.cos = cos_theta;
       const Scalar one(Real(1));
-      t.one_minus_cos = cos_theta < Scalar(Real(0.5)) ? one - cos_theta : sin_theta * sin_theta / (one + cos_theta);
+      t.one_minus_cos = cos_theta < Scalar(Real(0.5)) ? one - cos_theta : quotient(sin_theta * sin_theta, one + cos_theta);
     }
     return t;
   }
@@ -385,21 +386,21 @@ inline constexpr ExpPieces<Scalar> kExpPieceSeries{};
 template <class Scalar>
 inline Scalar coeffA(const AngleTerms<Scalar>& t) {
   if (!t.closed || t.theta2 < Scalar(Cutoffs<Scalar>::A)) return hornerEval(kSeriesA, t.theta2);
-  return t.sin / t.theta;
+  return quotient(t.sin, t.theta);
 }
 
 /// (1 − cosθ)/θ².
 template <class Scalar>
 inline Scalar coeffB(const AngleTerms<Scalar>& t) {
   if (!t.closed || t.theta2 < Scalar(Cutoffs<Scalar>::B)) return hornerEval(kSeriesB, t.theta2);
-  return t.one_minus_cos / t.theta2;
+  return quotient(t.one_minus_cos, t.theta2);
 }
 
 /// (θ − sinθ)/θ³.
 template <class Scalar>
 inline Scalar coeffC(const AngleTerms<Scalar>& t) {
   if (!t.closed || t.theta2 < Scalar(Cutoffs<Scalar>::C)) return hornerEval(kSeriesC, t.theta2);
-  return (t.theta - t.sin) / (t.theta2 * t.theta);
+  return quotient(t.theta - t.sin, t.theta2 * t.theta);
 }
 
 /// H(θ) = (θ/2)cot(θ/2) = θ sinθ/(2(1 − cosθ)), in the closed form through the shared terms:
@@ -407,7 +408,7 @@ inline Scalar coeffC(const AngleTerms<Scalar>& t) {
 template <class Scalar>
 inline Scalar coeffHClosed(const AngleTerms<Scalar>& t) {
   using Real = RealOf<Scalar>;
-  return t.theta * t.sin / (Scalar(Real(2)) * t.one_minus_cos);
+  return quotient(t.theta * t.sin, Scalar(Real(2)) * t.one_minus_cos);
 }
 
 /// H(θ) = (θ/2)cot(θ/2) = 1 − x D(x) (SE(2)'s V⁻¹). The closed form's value has no
@@ -427,7 +428,7 @@ template <class Scalar>
 inline Scalar coeffD(const AngleTerms<Scalar>& t) {
   using Real = RealOf<Scalar>;
   if (!t.closed || t.theta2 < Scalar(Cutoffs<Scalar>::D)) return hornerEval(kSeriesD, t.theta2);
-  return (Scalar(Real(1)) - coeffHClosed(t)) / t.theta2;
+  return quotient(Scalar(Real(1)) - coeffHClosed(t), t.theta2);
 }
 
 /// (θ² + 2cosθ − 2)/(2θ⁴) — SE(3) Q coefficient of (φ^φ^ρ^ + ρ^φ^φ^ − 3φ^ρ^φ^).
@@ -435,7 +436,7 @@ template <class Scalar>
 inline Scalar coeffE(const AngleTerms<Scalar>& t) {
   using Real = RealOf<Scalar>;
   if (!t.closed || t.theta2 < Scalar(Cutoffs<Scalar>::E)) return hornerEval(kSeriesE, t.theta2);
-  return (t.theta2 / Scalar(Real(2)) - t.one_minus_cos) / (t.theta2 * t.theta2);
+  return quotient(t.theta2 / Scalar(Real(2)) - t.one_minus_cos, t.theta2 * t.theta2);
 }
 
 /// (2θ − 3 sinθ + θ cosθ)/(2θ⁵) — SE(3) Q coefficient of (φ^ρ^φ^φ^ + φ^φ^ρ^φ^).
@@ -443,8 +444,8 @@ template <class Scalar>
 inline Scalar coeffF(const AngleTerms<Scalar>& t) {
   using Real = RealOf<Scalar>;
   if (!t.closed || t.theta2 < Scalar(Cutoffs<Scalar>::F)) return hornerEval(kSeriesF, t.theta2);
-  return (Scalar(Real(2)) * t.theta - Scalar(Real(3)) * t.sin + t.theta * t.cos) /
-         (Scalar(Real(2)) * t.theta2 * t.theta2 * t.theta);
+  return quotient(Scalar(Real(2)) * t.theta - Scalar(Real(3)) * t.sin + t.theta * t.cos,
+                  Scalar(Real(2)) * t.theta2 * t.theta2 * t.theta);
 }
 
 }  // namespace detail

@@ -16,6 +16,7 @@
 #include <lieservo/detail/flatten.hpp>
 #include <lieservo/units.hpp>
 #include <lieservo/groups/detail/coefficients.hpp>
+#include <lieservo/groups/detail/ordered.hpp>
 
 namespace lieservo {
 namespace detail {
@@ -156,30 +157,31 @@ inline Eigen::Matrix<Scalar, 4, 1> quaternionFromMatrix(const Eigen::Matrix<Scal
   if (t >= C(0, 0) && t >= C(1, 1) && t >= C(2, 2)) {
     const Scalar s = two * sqrt(one + t);  // s = 4w
     w = quarter * s;
-    x = (C(2, 1) - C(1, 2)) / s;
-    y = (C(0, 2) - C(2, 0)) / s;
-    z = (C(1, 0) - C(0, 1)) / s;
+    x = quotient(C(2, 1) - C(1, 2), s);
+    y = quotient(C(0, 2) - C(2, 0), s);
+    z = quotient(C(1, 0) - C(0, 1), s);
   } else if (C(0, 0) >= C(1, 1) && C(0, 0) >= C(2, 2)) {
     const Scalar s = two * sqrt(one + C(0, 0) - C(1, 1) - C(2, 2));  // s = 4x
-    w = (C(2, 1) - C(1, 2)) / s;
+    w = quotient(C(2, 1) - C(1, 2), s);
     x = quarter * s;
-    y = (C(0, 1) + C(1, 0)) / s;
-    z = (C(0, 2) + C(2, 0)) / s;
+    y = quotient(C(0, 1) + C(1, 0), s);
+    z = quotient(C(0, 2) + C(2, 0), s);
   } else if (C(1, 1) >= C(2, 2)) {
     const Scalar s = two * sqrt(one + C(1, 1) - C(0, 0) - C(2, 2));  // s = 4y
-    w = (C(0, 2) - C(2, 0)) / s;
-    x = (C(0, 1) + C(1, 0)) / s;
+    w = quotient(C(0, 2) - C(2, 0), s);
+    x = quotient(C(0, 1) + C(1, 0), s);
     y = quarter * s;
-    z = (C(1, 2) + C(2, 1)) / s;
+    z = quotient(C(1, 2) + C(2, 1), s);
   } else {
     const Scalar s = two * sqrt(one + C(2, 2) - C(0, 0) - C(1, 1));  // s = 4z
-    w = (C(1, 0) - C(0, 1)) / s;
-    x = (C(0, 2) + C(2, 0)) / s;
-    y = (C(1, 2) + C(2, 1)) / s;
+    w = quotient(C(1, 0) - C(0, 1), s);
+    x = quotient(C(0, 2) + C(2, 0), s);
+    y = quotient(C(1, 2) + C(2, 1), s);
     z = quarter * s;
   }
   Eigen::Matrix<Scalar, 4, 1> q(w, x, y, z);
-  q /= q.norm();
+  const Scalar n = norm(q);
+  for (int i = 0; i < 4; ++i) q(i) = quotient(q(i), n);
   if (q(0) < Scalar(0)) {
     q = -q;
   } else if (q(0) == Scalar(0)) {
@@ -223,8 +225,8 @@ struct AngleFromSinCos {
     }
     n = sqrt(n2);
     if (c >= n) {
-      theta = atan(n / c);
-      factor = theta / n;
+      theta = atan(quotient(n, c));
+      factor = quotient(theta, n);
       return;
     }
     const Scalar inv_n = Scalar(RealOf<Scalar>(1)) / n, z = c * inv_n;
@@ -245,7 +247,7 @@ inline Eigen::Matrix<Scalar, 3, 1> rotationVectorFromQuaternion(const Eigen::Mat
                                                                  AngleTerms<Scalar>* terms = nullptr) {
   using Real = RealOf<Scalar>;
   const Scalar two(Real(2));
-  const AngleFromSinCos<Scalar> half(q.template tail<3>().squaredNorm(), q(0));
+  const AngleFromSinCos<Scalar> half(squaredNorm(Eigen::Matrix<Scalar, 3, 1>(q.template tail<3>())), q(0));
   if (terms) *terms = AngleTerms<Scalar>::fromHalfAngle(two * half.theta, half.n, q(0));
   return (two * half.factor) * q.template tail<3>();
 }
@@ -278,7 +280,7 @@ inline Eigen::Matrix<Scalar, 3, 1> rotationVectorNearPi(const Eigen::Matrix<Scal
   const Scalar sign = copysign(one, qw);  // w ≥ 0: its sign goes to v
   const Eigen::Matrix<Scalar, 3, 1> v(sign * qx, sign * qy, sign * qz);
   const Scalar w = abs(qw);
-  const Scalar n2 = v.squaredNorm();
+  const Scalar n2 = squaredNorm(v);
   if (!terms) return (Scalar(Real(2)) * AngleFromSinCos<Scalar, false>(n2, w).factor) * v;
   const AngleFromSinCos<Scalar> half(n2, w);
   const Scalar inv = one / sqrt(n2 + w * w);
@@ -308,7 +310,7 @@ LIESERVO_ALWAYS_INLINE Eigen::Matrix<Scalar, 3, 1> rotationVectorFromMatrix(cons
     // rad and beyond: float, θ < 0.035 rad); in double it would stop at θ ≈ 2.3e-4 and split a
     // set of small angles between two branches, so double keeps the arctangent's series.
     if constexpr (Real(Cutoffs<Scalar>::HalfAsin) >= Real(4e-4)) {
-      const Scalar n2 = s.squaredNorm();
+      const Scalar n2 = squaredNorm(s);
       if (n2 < Scalar(Cutoffs<Scalar>::HalfAsin)) {
         const Scalar factor = hornerEval(kSeriesHalfAsin, n2);
         if (terms) {
@@ -319,8 +321,8 @@ LIESERVO_ALWAYS_INLINE Eigen::Matrix<Scalar, 3, 1> rotationVectorFromMatrix(cons
         return factor * s;
       }
     }
-    if (!terms) return AngleFromSinCos<Scalar, false>(s.squaredNorm(), c).factor * s;
-    const AngleFromSinCos<Scalar> a(s.squaredNorm(), c);
+    if (!terms) return AngleFromSinCos<Scalar, false>(squaredNorm(s), c).factor * s;
+    const AngleFromSinCos<Scalar> a(squaredNorm(s), c);
     const Scalar half(Real(0.5));
     *terms = AngleTerms<Scalar>::fromSinCos(a.theta, half * a.n, half * c);
     return a.factor * s;
