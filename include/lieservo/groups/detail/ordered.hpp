@@ -9,7 +9,8 @@
 //   - ceres::Jet forms a quotient's value as f · (1/g), two roundings where f / g is one.
 // The helpers below fix one order: every sum left to right (dot products, squared norms, each
 // entry of a matrix–vector product), and a quotient whose value rounds once. For float and
-// double they are the same operations as Eigen's, in a fixed order, or the division itself.
+// double they are the same operations as Eigen's, in a fixed order, or the division itself;
+// float's dot products keep Eigen's own order (see dot).
 #pragma once
 #include <lieservo/detail/options_push.hpp>
 
@@ -54,7 +55,7 @@ LIESERVO_ALWAYS_INLINE Scalar dot(const Eigen::Matrix<Scalar, N, 1>& a, const Ei
   }
 }
 
-/// Σ_i a_i², summed left to right.
+/// Σ_i a_i², as dot(a, a).
 template <class Scalar, int N>
 LIESERVO_ALWAYS_INLINE Scalar squaredNorm(const Eigen::Matrix<Scalar, N, 1>& a) {
   return dot(a, a);
